@@ -1,0 +1,154 @@
+//! The `neuromesh` command line: a thin translation of flags into library calls.
+//!
+//! Exit codes: 0 on success, 1 with `error: FILE:LINE: reason` on stderr for bad
+//! input or a failed write, 2 for usage errors (clap), 3 when `check --strict`
+//! finds a defect or `batch` could not mesh every file.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand};
+use neuromesh::{Error, Mesh, Morphology, Params, info::Summary, io};
+
+#[derive(Parser)]
+#[command(
+    name = "neuromesh",
+    version,
+    about = "Closed, manifold triangle meshes of neurons from SWC skeletons",
+    long_about = "Turns a neuron skeleton (SWC) into a closed, 2-manifold triangle mesh of its \
+                  membrane, and checks meshes from any tool."
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Mesh one SWC file into OBJ, PLY or STL.
+    Mesh {
+        /// Input SWC file.
+        input: PathBuf,
+        /// Output mesh; the extension picks the format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also check the mesh and print the report.
+        #[arg(long)]
+        check: bool,
+        /// Print nothing on success.
+        #[arg(short, long)]
+        quiet: bool,
+        #[command(flatten)]
+        params: Params,
+    },
+    /// Summarise an SWC file: samples, soma, branching.
+    Info {
+        /// Input SWC file.
+        input: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Check any OBJ, PLY or STL mesh for defects.
+    Check {
+        /// Mesh file (.obj, .ply or .stl).
+        mesh: PathBuf,
+        /// SWC the mesh came from: splits skeleton overlaps apart.
+        #[arg(long)]
+        swc: Option<PathBuf>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Exit with code 3 when the mesh is not valid.
+        #[arg(long)]
+        strict: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli.cmd) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(cmd: Cmd) -> Result<ExitCode, Error> {
+    match cmd {
+        Cmd::Mesh {
+            input,
+            output,
+            check,
+            quiet,
+            params,
+        } => {
+            params.validate()?;
+            io::Format::from_path(&output)?;
+            let start = Instant::now();
+            let morphology = Morphology::from_swc(&input)?;
+            let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
+            let meshed = start.elapsed();
+            io::write(&output, &mesh)?;
+            if !quiet {
+                println!(
+                    "wrote {}: {} vertices, {} triangles ({:.1} ms meshing, {:.1} ms total)",
+                    output.display(),
+                    mesh.vertices.len(),
+                    mesh.faces.len(),
+                    meshed.as_secs_f64() * 1e3,
+                    start.elapsed().as_secs_f64() * 1e3
+                );
+            }
+            if check {
+                let scaled = morphology.scaled(params.scale)?;
+                println!("{}", mesh.check_with(&scaled));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Cmd::Info { input, json } => {
+            let m = Morphology::from_swc(&input)?;
+            let s = Summary::of(&m);
+            if json {
+                println!("{}", s.to_json());
+            } else {
+                println!("{s}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Cmd::Check {
+            mesh,
+            swc,
+            json,
+            strict,
+        } => {
+            let m = io::read(&mesh)?;
+            let report = match swc {
+                Some(path) => {
+                    let morphology = Morphology::from_swc(&path)?;
+                    if m.vertex_sample.len() != m.vertices.len() {
+                        eprintln!(
+                            "note: {} has no per-vertex sample labels (write PLY to keep them); \
+                             self-intersections cannot be classified",
+                            mesh.display()
+                        );
+                    }
+                    m.check_with(&morphology)
+                }
+                None => m.check(),
+            };
+            if json {
+                println!("{}", report.to_json());
+            } else {
+                println!("{report}");
+            }
+            if strict && !report.is_valid() {
+                return Ok(ExitCode::from(3));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

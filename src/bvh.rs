@@ -1,0 +1,316 @@
+//! A bounding-volume hierarchy over axis-aligned boxes.
+//!
+//! Used by the self-intersection check (a million triangles in about a second)
+//! and by the junction builder to find the triangles near a branch point. It is
+//! a plain binary tree split at the median of the longest axis of the box
+//! centres: cheap to build, good enough for the well-spread triangles of a tube
+//! mesh, and free of any per-query allocation.
+
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Lower corner.
+    pub lo: [f64; 3],
+    /// Upper corner.
+    pub hi: [f64; 3],
+}
+
+impl Aabb {
+    /// The empty box (grows to the first point added).
+    pub const EMPTY: Aabb = Aabb {
+        lo: [f64::INFINITY; 3],
+        hi: [f64::NEG_INFINITY; 3],
+    };
+
+    /// The smallest box holding `points`.
+    pub fn of(points: &[[f64; 3]]) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for p in points {
+            b.add_point(*p);
+        }
+        b
+    }
+
+    /// Grows the box to hold `p`.
+    #[inline]
+    pub fn add_point(&mut self, p: [f64; 3]) {
+        for a in 0..3 {
+            self.lo[a] = self.lo[a].min(p[a]);
+            self.hi[a] = self.hi[a].max(p[a]);
+        }
+    }
+
+    /// Grows the box to hold `o`.
+    #[inline]
+    pub fn add(&mut self, o: &Aabb) {
+        for a in 0..3 {
+            self.lo[a] = self.lo[a].min(o.lo[a]);
+            self.hi[a] = self.hi[a].max(o.hi[a]);
+        }
+    }
+
+    /// The box grown by `margin` on every side.
+    #[inline]
+    pub fn inflated(&self, margin: f64) -> Aabb {
+        Aabb {
+            lo: [
+                self.lo[0] - margin,
+                self.lo[1] - margin,
+                self.lo[2] - margin,
+            ],
+            hi: [
+                self.hi[0] + margin,
+                self.hi[1] + margin,
+                self.hi[2] + margin,
+            ],
+        }
+    }
+
+    /// Whether the closed boxes overlap.
+    #[inline]
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.lo[0] <= o.hi[0]
+            && o.lo[0] <= self.hi[0]
+            && self.lo[1] <= o.hi[1]
+            && o.lo[1] <= self.hi[1]
+            && self.lo[2] <= o.hi[2]
+            && o.lo[2] <= self.hi[2]
+    }
+
+    /// Whether a ray `origin + t·dir`, t in [0, t_max], can meet the box.
+    #[inline]
+    pub fn hit_by_ray(&self, origin: [f64; 3], inv_dir: [f64; 3], t_max: f64) -> bool {
+        let mut t0 = 0.0f64;
+        let mut t1 = t_max;
+        for a in 0..3 {
+            let mut near = (self.lo[a] - origin[a]) * inv_dir[a];
+            let mut far = (self.hi[a] - origin[a]) * inv_dir[a];
+            if near > far {
+                std::mem::swap(&mut near, &mut far);
+            }
+            // NaN from 0·∞ (ray parallel to a face plane, origin on it) keeps the box.
+            if near.is_nan() || far.is_nan() {
+                continue;
+            }
+            t0 = t0.max(near);
+            t1 = t1.min(far);
+            if t0 > t1 {
+                return false;
+            }
+        }
+        true
+    }
+
+    fn center(&self, a: usize) -> f64 {
+        0.5 * (self.lo[a] + self.hi[a])
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    bounds: Aabb,
+    /// Leaf: first item; inner: index of the left child (the right one follows it).
+    start: u32,
+    /// Leaf: number of items (> 0); inner: 0.
+    count: u32,
+}
+
+/// A static BVH over item boxes; items are reported by their index in the input.
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    items: Vec<u32>,
+    boxes: Vec<Aabb>,
+}
+
+const LEAF_SIZE: usize = 4;
+
+impl Bvh {
+    /// Builds the hierarchy over `boxes`.
+    pub fn new(boxes: Vec<Aabb>) -> Bvh {
+        let mut items: Vec<u32> = (0..boxes.len() as u32).collect();
+        let mut nodes = Vec::with_capacity(2 * boxes.len() / LEAF_SIZE + 1);
+        if boxes.is_empty() {
+            return Bvh {
+                nodes,
+                items,
+                boxes,
+            };
+        }
+        nodes.push(Node {
+            bounds: Aabb::EMPTY,
+            start: 0,
+            count: boxes.len() as u32,
+        });
+        let mut stack = vec![0usize];
+        while let Some(ni) = stack.pop() {
+            let (start, count) = (nodes[ni].start as usize, nodes[ni].count as usize);
+            let slice = &mut items[start..start + count];
+            let mut bounds = Aabb::EMPTY;
+            let mut centers = Aabb::EMPTY;
+            for &i in slice.iter() {
+                let b = &boxes[i as usize];
+                bounds.add(b);
+                centers.add_point([b.center(0), b.center(1), b.center(2)]);
+            }
+            nodes[ni].bounds = bounds;
+            if count <= LEAF_SIZE {
+                continue;
+            }
+            let ext = [
+                centers.hi[0] - centers.lo[0],
+                centers.hi[1] - centers.lo[1],
+                centers.hi[2] - centers.lo[2],
+            ];
+            let axis = if ext[0] >= ext[1] && ext[0] >= ext[2] {
+                0
+            } else if ext[1] >= ext[2] {
+                1
+            } else {
+                2
+            };
+            let mid = count / 2;
+            slice.select_nth_unstable_by(mid, |&a, &b| {
+                boxes[a as usize]
+                    .center(axis)
+                    .total_cmp(&boxes[b as usize].center(axis))
+            });
+            let left = nodes.len();
+            nodes.push(Node {
+                bounds: Aabb::EMPTY,
+                start: start as u32,
+                count: mid as u32,
+            });
+            nodes.push(Node {
+                bounds: Aabb::EMPTY,
+                start: (start + mid) as u32,
+                count: (count - mid) as u32,
+            });
+            nodes[ni].start = left as u32;
+            nodes[ni].count = 0;
+            stack.push(left);
+            stack.push(left + 1);
+        }
+        Bvh {
+            nodes,
+            items,
+            boxes,
+        }
+    }
+
+    /// The box of item `i`.
+    pub fn item_box(&self, i: u32) -> &Aabb {
+        &self.boxes[i as usize]
+    }
+
+    /// Number of items.
+    pub fn len(&self) -> usize {
+        self.boxes.len()
+    }
+
+    /// Whether the hierarchy holds no items.
+    pub fn is_empty(&self) -> bool {
+        self.boxes.is_empty()
+    }
+
+    /// Calls `f` with every item whose box overlaps `query`.
+    pub fn for_each_overlap(&self, query: &Aabb, mut f: impl FnMut(u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = [0u32; 64];
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if !node.bounds.overlaps(query) {
+                continue;
+            }
+            if node.count > 0 {
+                let s = node.start as usize;
+                for &i in &self.items[s..s + node.count as usize] {
+                    if self.boxes[i as usize].overlaps(query) {
+                        f(i);
+                    }
+                }
+            } else if top + 2 <= stack.len() {
+                stack[top] = node.start;
+                stack[top + 1] = node.start + 1;
+                top += 2;
+            }
+        }
+    }
+
+    /// Calls `f` with every item whose box the ray segment can meet.
+    pub fn for_each_on_ray(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        t_max: f64,
+        mut f: impl FnMut(u32),
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let inv = [1.0 / dir[0], 1.0 / dir[1], 1.0 / dir[2]];
+        let mut stack = [0u32; 64];
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if !node.bounds.hit_by_ray(origin, inv, t_max) {
+                continue;
+            }
+            if node.count > 0 {
+                let s = node.start as usize;
+                for &i in &self.items[s..s + node.count as usize] {
+                    f(i);
+                }
+            } else if top + 2 <= stack.len() {
+                stack[top] = node.start;
+                stack[top + 1] = node.start + 1;
+                top += 2;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_box(x: f64) -> Aabb {
+        Aabb {
+            lo: [x, 0.0, 0.0],
+            hi: [x + 1.0, 1.0, 1.0],
+        }
+    }
+
+    #[test]
+    fn finds_exactly_the_overlapping_boxes() {
+        let boxes: Vec<Aabb> = (0..1000).map(|i| unit_box(f64::from(i) * 2.0)).collect();
+        let bvh = Bvh::new(boxes.clone());
+        let q = Aabb {
+            lo: [10.5, 0.5, 0.5],
+            hi: [14.2, 0.6, 0.6],
+        };
+        let mut found = Vec::new();
+        bvh.for_each_overlap(&q, |i| found.push(i));
+        found.sort_unstable();
+        let expect: Vec<u32> = (0..1000u32)
+            .filter(|&i| boxes[i as usize].overlaps(&q))
+            .collect();
+        assert_eq!(found, expect);
+        assert_eq!(found, vec![5, 6, 7]);
+    }
+
+    #[test]
+    fn ray_visits_boxes_along_it() {
+        let boxes: Vec<Aabb> = (0..100).map(|i| unit_box(f64::from(i) * 2.0)).collect();
+        let bvh = Bvh::new(boxes);
+        let mut found = Vec::new();
+        bvh.for_each_on_ray([-1.0, 0.5, 0.5], [1.0, 0.0, 0.0], 6.0, |i| found.push(i));
+        found.sort_unstable();
+        assert_eq!(found, vec![0, 1, 2]);
+    }
+}

@@ -1,0 +1,665 @@
+//! The mesh quality report: is it a valid closed surface, and how far from one.
+//!
+//! [`Mesh::check`] answers the questions every test and every user asks of a
+//! mesh: closed (every edge in exactly two faces), edge- and vertex-manifold,
+//! consistently oriented and facing outward, connected components, Euler
+//! characteristic, degenerate and duplicate faces, and self-intersecting
+//! triangle pairs. It works on any mesh, including other tools' meshes read from
+//! OBJ, PLY or STL.
+//!
+//! Self-intersections are found with a [`Bvh`] over the triangle boxes and exact-
+//! in-spirit predicates from [`crate::geom`]; pairs that share a vertex or an edge
+//! get their own tests. Given the morphology the mesh came from,
+//! [`Mesh::check_with`] splits the intersecting pairs into those the
+//! construction made and those where the skeleton itself overlaps (two branches
+//! far apart in the tree passing through each other in space): a pair is a
+//! *skeleton overlap* when the tree path between the two triangles' samples is
+//! longer than four times the sum of their radii plus one resampling step,
+//! which no junction or tube of ours spans.
+
+use std::collections::HashMap;
+
+use crate::bvh::{Aabb, Bvh};
+use crate::geom;
+use crate::mesh::{BuildStats, Mesh, MeshView, cross, norm, sub};
+use crate::morphology::{Morphology, NO_PARENT};
+
+/// At most this many intersecting pairs are listed in a report (all are counted).
+pub const MAX_LISTED_PAIRS: usize = 100;
+
+/// What [`Mesh::check`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshReport {
+    /// Vertices in the mesh.
+    pub vertices: usize,
+    /// Triangles in the mesh.
+    pub faces: usize,
+    /// Distinct undirected edges.
+    pub edges: usize,
+    /// Edges used by one face only (holes).
+    pub boundary_edges: usize,
+    /// Edges used by more than two faces.
+    pub nonmanifold_edges: usize,
+    /// Two-face edges whose faces run the edge the same way (flipped neighbours).
+    pub misoriented_edges: usize,
+    /// Vertices whose faces form more than one fan (pinches).
+    pub nonmanifold_vertices: usize,
+    /// Vertices no face uses.
+    pub unreferenced_vertices: usize,
+    /// Faces with a repeated vertex or (near) zero area.
+    pub degenerate_faces: usize,
+    /// Faces that repeat another face's three vertices.
+    pub duplicate_faces: usize,
+    /// Connected components (by shared vertices).
+    pub components: usize,
+    /// Components whose signed volume is negative (facing inward).
+    pub inward_components: usize,
+    /// V − E + F over the used vertices (2 per closed sphere-like component).
+    pub euler_characteristic: i64,
+    /// Surface area.
+    pub area: f64,
+    /// Signed enclosed volume.
+    pub volume: f64,
+    /// Pairs of triangles that intersect and are not neighbours.
+    pub self_intersections: usize,
+    /// Of those, pairs made by the construction (only with a morphology).
+    pub construction_intersections: Option<usize>,
+    /// Of those, pairs where the skeleton itself overlaps (only with a morphology).
+    pub skeleton_overlaps: Option<usize>,
+    /// Up to [`MAX_LISTED_PAIRS`] intersecting face pairs, smallest first.
+    pub intersecting_pairs: Vec<[u32; 2]>,
+    /// How the mesh was built (zeros for meshes read from files).
+    pub stats: BuildStats,
+}
+
+impl MeshReport {
+    /// Every edge is in exactly two faces.
+    pub fn is_closed(&self) -> bool {
+        self.boundary_edges == 0 && self.nonmanifold_edges == 0
+    }
+    /// Edge- and vertex-manifold.
+    pub fn is_manifold(&self) -> bool {
+        self.nonmanifold_edges == 0 && self.nonmanifold_vertices == 0
+    }
+    /// Neighbouring faces agree on orientation and every component faces outward.
+    pub fn is_outward(&self) -> bool {
+        self.misoriented_edges == 0 && self.inward_components == 0
+    }
+    /// Closed, manifold, outward, no degenerate or duplicate faces and no
+    /// self-intersections made by the construction (skeleton overlaps excepted
+    /// when a morphology was given).
+    pub fn is_valid(&self) -> bool {
+        self.is_closed()
+            && self.is_manifold()
+            && self.is_outward()
+            && self.degenerate_faces == 0
+            && self.duplicate_faces == 0
+            && self
+                .construction_intersections
+                .unwrap_or(self.self_intersections)
+                == 0
+    }
+
+    /// The report as a JSON object (stable keys, for scripts and the CLI).
+    pub fn to_json(&self) -> String {
+        let opt = |v: Option<usize>| v.map_or("null".to_owned(), |v| v.to_string());
+        let pairs: Vec<String> = self
+            .intersecting_pairs
+            .iter()
+            .map(|p| format!("[{},{}]", p[0], p[1]))
+            .collect();
+        let s = &self.stats;
+        format!(
+            concat!(
+                "{{\"vertices\":{},\"faces\":{},\"edges\":{},\"closed\":{},\"manifold\":{},\"outward\":{},",
+                "\"valid\":{},\"boundary_edges\":{},\"nonmanifold_edges\":{},\"misoriented_edges\":{},",
+                "\"nonmanifold_vertices\":{},\"unreferenced_vertices\":{},\"degenerate_faces\":{},",
+                "\"duplicate_faces\":{},\"components\":{},\"inward_components\":{},",
+                "\"euler_characteristic\":{},\"area\":{},\"volume\":{},\"self_intersections\":{},",
+                "\"construction_intersections\":{},\"skeleton_overlaps\":{},\"intersecting_pairs\":[{}],",
+                "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
+                "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
+                "\"junctions_detached\":{},\"soma_trunks\":{}}}}}"
+            ),
+            self.vertices,
+            self.faces,
+            self.edges,
+            self.is_closed(),
+            self.is_manifold(),
+            self.is_outward(),
+            self.is_valid(),
+            self.boundary_edges,
+            self.nonmanifold_edges,
+            self.misoriented_edges,
+            self.nonmanifold_vertices,
+            self.unreferenced_vertices,
+            self.degenerate_faces,
+            self.duplicate_faces,
+            self.components,
+            self.inward_components,
+            self.euler_characteristic,
+            json_f64(self.area),
+            json_f64(self.volume),
+            self.self_intersections,
+            opt(self.construction_intersections),
+            opt(self.skeleton_overlaps),
+            pairs.join(","),
+            s.branches,
+            s.branches_hidden,
+            s.contours_skipped,
+            s.junctions_paper,
+            s.junctions_moved,
+            s.junctions_fallback,
+            s.junctions_detached,
+            s.soma_trunks,
+        )
+    }
+}
+
+fn json_f64(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v}")
+    } else {
+        "null".to_owned()
+    }
+}
+
+impl std::fmt::Display for MeshReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let yes = |b: bool| if b { "yes" } else { "NO" };
+        writeln!(f, "vertices              {}", self.vertices)?;
+        writeln!(f, "faces                 {}", self.faces)?;
+        writeln!(
+            f,
+            "closed                {} ({} boundary edges)",
+            yes(self.is_closed()),
+            self.boundary_edges
+        )?;
+        writeln!(
+            f,
+            "manifold              {} ({} edges, {} vertices non-manifold)",
+            yes(self.is_manifold()),
+            self.nonmanifold_edges,
+            self.nonmanifold_vertices
+        )?;
+        writeln!(
+            f,
+            "outward               {} ({} flipped edges, {} inward components)",
+            yes(self.is_outward()),
+            self.misoriented_edges,
+            self.inward_components
+        )?;
+        writeln!(f, "components            {}", self.components)?;
+        writeln!(f, "euler characteristic  {}", self.euler_characteristic)?;
+        writeln!(f, "degenerate faces      {}", self.degenerate_faces)?;
+        writeln!(f, "duplicate faces       {}", self.duplicate_faces)?;
+        match (self.construction_intersections, self.skeleton_overlaps) {
+            (Some(c), Some(s)) => writeln!(
+                f,
+                "self-intersections    {} pairs ({c} from construction, {s} from skeleton overlaps)",
+                self.self_intersections
+            )?,
+            _ => writeln!(f, "self-intersections    {} pairs", self.self_intersections)?,
+        }
+        writeln!(f, "area                  {:.6}", self.area)?;
+        writeln!(f, "volume                {:.6}", self.volume)?;
+        let s = &self.stats;
+        if s.branches > 0 {
+            writeln!(
+                f,
+                "junctions             {} paper, {} moved, {} fallback, {} detached",
+                s.junctions_paper, s.junctions_moved, s.junctions_fallback, s.junctions_detached
+            )?;
+        }
+        write!(f, "valid                 {}", yes(self.is_valid()))
+    }
+}
+
+impl Mesh {
+    /// Checks topology, orientation and self-intersections.
+    pub fn check(&self) -> MeshReport {
+        let mut r = self.view().check(None);
+        r.stats = self.stats.clone();
+        r
+    }
+
+    /// Like [`Mesh::check`], and splits self-intersections into construction
+    /// defects and skeleton overlaps using the vertices' sample labels.
+    pub fn check_with(&self, morphology: &Morphology) -> MeshReport {
+        let mut r = self.view().check(Some(morphology));
+        r.stats = self.stats.clone();
+        r
+    }
+}
+
+impl MeshView<'_> {
+    /// The full report; with a morphology (and sample labels) self-intersections
+    /// are split into construction defects and skeleton overlaps. The caller
+    /// must have validated the view.
+    pub fn check(&self, morphology: Option<&Morphology>) -> MeshReport {
+        let mut r = MeshReport {
+            vertices: self.vertices.len(),
+            faces: self.faces.len(),
+            area: self.area(),
+            volume: self.volume(),
+            ..MeshReport::default()
+        };
+        topology(self, &mut r);
+        let pairs = self_intersections(self);
+        r.self_intersections = pairs.len();
+        r.intersecting_pairs = pairs.iter().take(MAX_LISTED_PAIRS).copied().collect();
+        if let Some(m) = morphology
+            && self.vertex_sample.len() == self.vertices.len()
+        {
+            let skeleton = pairs
+                .iter()
+                .filter(|p| is_skeleton_overlap(self, m, **p))
+                .count();
+            r.skeleton_overlaps = Some(skeleton);
+            r.construction_intersections = Some(pairs.len() - skeleton);
+        }
+        r
+    }
+}
+
+struct UnionFind(Vec<u32>);
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind((0..n as u32).collect())
+    }
+    fn find(&mut self, mut i: u32) -> u32 {
+        while self.0[i as usize] != i {
+            let next = self.0[i as usize];
+            self.0[i as usize] = self.0[next as usize];
+            i = next;
+        }
+        i
+    }
+    fn union(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.0[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+}
+
+fn topology(mesh: &MeshView<'_>, r: &mut MeshReport) {
+    let nv = mesh.vertices.len();
+    // Directed edges sorted by their undirected key: a scan then sees each edge's uses.
+    let mut edges: Vec<(u64, bool)> = Vec::with_capacity(mesh.faces.len() * 3);
+    let mut used = vec![false; nv];
+    let mut face_keys: Vec<[u32; 3]> = Vec::with_capacity(mesh.faces.len());
+    let origin = mesh.center();
+    for (fi, f) in mesh.faces.iter().enumerate() {
+        for k in 0..3 {
+            used[f[k] as usize] = true;
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            if a != b {
+                let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+                edges.push((key, a < b));
+            }
+        }
+        if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
+            r.degenerate_faces += 1;
+        } else {
+            let [a, b, c] = mesh.triangle(fi, origin);
+            let (e1, e2, e3) = (sub(b, a), sub(c, a), sub(c, b));
+            let longest = crate::mesh::dot(e1, e1)
+                .max(crate::mesh::dot(e2, e2))
+                .max(crate::mesh::dot(e3, e3));
+            if norm(cross(e1, e2)) <= 1e-9 * longest {
+                r.degenerate_faces += 1;
+            }
+        }
+        let mut key = *f;
+        key.sort_unstable();
+        face_keys.push(key);
+    }
+    face_keys.sort_unstable();
+    r.duplicate_faces = face_keys.windows(2).filter(|w| w[0] == w[1]).count();
+    r.unreferenced_vertices = used.iter().filter(|u| !**u).count();
+
+    edges.sort_unstable();
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i;
+        let (mut fwd, mut bwd) = (0, 0);
+        while j < edges.len() && edges[j].0 == edges[i].0 {
+            if edges[j].1 {
+                fwd += 1
+            } else {
+                bwd += 1
+            }
+            j += 1;
+        }
+        r.edges += 1;
+        match j - i {
+            1 => r.boundary_edges += 1,
+            2 => {
+                if fwd != 1 || bwd != 1 {
+                    r.misoriented_edges += 1;
+                }
+            }
+            _ => r.nonmanifold_edges += 1,
+        }
+        i = j;
+    }
+
+    // Components by shared vertices, with signed volume per component.
+    let mut uf = UnionFind::new(nv);
+    for f in mesh.faces {
+        uf.union(f[0], f[1]);
+        uf.union(f[1], f[2]);
+    }
+    let mut comp_volume: HashMap<u32, f64> = HashMap::new();
+    for (fi, f) in mesh.faces.iter().enumerate() {
+        let root = uf.find(f[0]);
+        let [a, b, c] = mesh.triangle(fi, origin);
+        *comp_volume.entry(root).or_insert(0.0) += crate::mesh::dot(a, cross(b, c)) / 6.0;
+    }
+    r.components = comp_volume.len();
+    r.inward_components = comp_volume.values().filter(|&&v| v < 0.0).count();
+    let used_count = nv - r.unreferenced_vertices;
+    r.euler_characteristic = used_count as i64 - r.edges as i64 + mesh.faces.len() as i64;
+    r.nonmanifold_vertices = nonmanifold_vertices(mesh);
+}
+
+/// Counts vertices whose incident faces do not form a single fan: the "link"
+/// (the opposite edges of the incident faces) must be one connected piece.
+fn nonmanifold_vertices(mesh: &MeshView<'_>) -> usize {
+    let nv = mesh.vertices.len();
+    let mut count = vec![0u32; nv + 1];
+    for f in mesh.faces {
+        for &v in f {
+            count[v as usize] += 1;
+        }
+    }
+    let mut start = vec![0u32; nv + 1];
+    for v in 0..nv {
+        start[v + 1] = start[v] + count[v];
+    }
+    let mut fill = start.clone();
+    let mut link = vec![[0u32; 2]; start[nv] as usize];
+    for f in mesh.faces {
+        for k in 0..3 {
+            let v = f[k] as usize;
+            link[fill[v] as usize] = [f[(k + 1) % 3], f[(k + 2) % 3]];
+            fill[v] += 1;
+        }
+    }
+    let mut bad = 0;
+    let mut labels: Vec<u32> = Vec::new();
+    let mut parent: Vec<usize> = Vec::new();
+    for v in 0..nv {
+        let edges = &link[start[v] as usize..start[v + 1] as usize];
+        if edges.len() < 2 {
+            continue;
+        }
+        labels.clear();
+        parent.clear();
+        let local = |x: u32, labels: &mut Vec<u32>, parent: &mut Vec<usize>| -> usize {
+            if let Some(p) = labels.iter().position(|&l| l == x) {
+                p
+            } else {
+                labels.push(x);
+                parent.push(parent.len());
+                parent.len() - 1
+            }
+        };
+        for e in edges {
+            let a = local(e[0], &mut labels, &mut parent);
+            let b = local(e[1], &mut labels, &mut parent);
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        let pieces = (0..parent.len())
+            .filter(|&i| root(&mut parent, i) == i)
+            .count();
+        if pieces > 1 {
+            bad += 1;
+        }
+    }
+    bad
+}
+
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// The connected component (by shared vertices) of every face, numbered from 0
+/// in order of first appearance.
+pub fn face_components(mesh: &MeshView<'_>) -> Vec<u32> {
+    let mut uf = UnionFind::new(mesh.vertices.len());
+    for f in mesh.faces {
+        uf.union(f[0], f[1]);
+        uf.union(f[1], f[2]);
+    }
+    let mut number: HashMap<u32, u32> = HashMap::new();
+    mesh.faces
+        .iter()
+        .map(|f| {
+            let root = uf.find(f[0]);
+            let next = number.len() as u32;
+            *number.entry(root).or_insert(next)
+        })
+        .collect()
+}
+
+/// All pairs of faces that intersect and are not neighbours (or are neighbours
+/// that overlap beyond their shared vertex or edge), sorted.
+pub fn self_intersections(mesh: &MeshView<'_>) -> Vec<[u32; 2]> {
+    let origin = mesh.center();
+    let tris: Vec<[[f64; 3]; 3]> = (0..mesh.faces.len())
+        .map(|f| mesh.triangle(f, origin))
+        .collect();
+    let boxes: Vec<Aabb> = tris.iter().map(|t| Aabb::of(t)).collect();
+    let bvh = Bvh::new(boxes);
+    let per_face = |i: usize| -> Vec<[u32; 2]> {
+        let mut found = Vec::new();
+        let fi = mesh.faces[i];
+        if fi[0] == fi[1] || fi[1] == fi[2] || fi[0] == fi[2] {
+            return found;
+        }
+        bvh.for_each_overlap(bvh.item_box(i as u32), |j| {
+            if (j as usize) <= i {
+                return;
+            }
+            let fj = mesh.faces[j as usize];
+            if fj[0] == fj[1] || fj[1] == fj[2] || fj[0] == fj[2] {
+                return;
+            }
+            if pair_intersects(fi, fj, tris[i], tris[j as usize]) {
+                found.push([i as u32, j]);
+            }
+        });
+        found
+    };
+    let mut pairs: Vec<[u32; 2]> = crate::parallel::flat_map_range(mesh.faces.len(), per_face);
+    pairs.sort_unstable();
+    pairs
+}
+
+fn pair_intersects(fa: [u32; 3], fb: [u32; 3], ta: [[f64; 3]; 3], tb: [[f64; 3]; 3]) -> bool {
+    let shared: Vec<(usize, usize)> = (0..3)
+        .flat_map(|i| (0..3).map(move |j| (i, j)))
+        .filter(|&(i, j)| fa[i] == fb[j])
+        .collect();
+    match shared.len() {
+        0 => geom::triangles_intersect(ta, tb),
+        1 => {
+            let (i, j) = shared[0];
+            let a = [ta[i], ta[(i + 1) % 3], ta[(i + 2) % 3]];
+            let b = [tb[j], tb[(j + 1) % 3], tb[(j + 2) % 3]];
+            geom::triangles_intersect_sharing_vertex(a, b)
+        }
+        2 => {
+            let (i0, j0) = shared[0];
+            let (i1, j1) = shared[1];
+            let ia = 3 - i0 - i1;
+            let ib = 3 - j0 - j1;
+            geom::triangles_fold_on_shared_edge([ta[i0], ta[i1], ta[ia]], [tb[j0], tb[j1], tb[ib]])
+        }
+        _ => false, // duplicate faces are reported separately
+    }
+}
+
+/// The sample a face mostly comes from: its first vertex's label.
+fn face_sample(mesh: &MeshView<'_>, f: u32) -> u32 {
+    mesh.vertex_sample[mesh.faces[f as usize][0] as usize]
+}
+
+fn is_skeleton_overlap(mesh: &MeshView<'_>, m: &Morphology, pair: [u32; 2]) -> bool {
+    let (a, b) = (face_sample(mesh, pair[0]), face_sample(mesh, pair[1]));
+    if a as usize >= m.len() || b as usize >= m.len() {
+        return false;
+    }
+    let tree = m.tree_of();
+    if tree[a as usize] != tree[b as usize] {
+        return true;
+    }
+    let r = m.radii();
+    let reach = 4.0 * (r[a as usize] + r[b as usize]) + step_len(m, a) + step_len(m, b);
+    tree_path_length(m, a, b, reach) > reach
+}
+
+fn step_len(m: &Morphology, i: u32) -> f64 {
+    let p = m.parents()[i as usize];
+    if p == NO_PARENT {
+        0.0
+    } else {
+        crate::morphology::dist(m.positions()[i as usize], m.positions()[p as usize])
+    }
+}
+
+/// Length of the tree path between two samples of the same tree, stopping early
+/// once it exceeds `limit` (the caller only needs to know that).
+fn tree_path_length(m: &Morphology, a: u32, b: u32, limit: f64) -> f64 {
+    let parents = m.parents();
+    let pos = m.positions();
+    // Walk up from `a`, remembering distances; then walk up from `b` until a
+    // remembered ancestor is met.
+    let mut up_a: HashMap<u32, f64> = HashMap::new();
+    let mut k = a;
+    let mut d = 0.0;
+    up_a.insert(k, 0.0);
+    while parents[k as usize] != NO_PARENT && d <= 2.0 * limit {
+        let p = parents[k as usize];
+        d += crate::morphology::dist(pos[k as usize], pos[p as usize]);
+        up_a.insert(p, d);
+        k = p;
+    }
+    let mut k = b;
+    let mut d = 0.0;
+    loop {
+        if let Some(da) = up_a.get(&k) {
+            return da + d;
+        }
+        let p = parents[k as usize];
+        if p == NO_PARENT || d > 2.0 * limit {
+            return f64::INFINITY;
+        }
+        d += crate::morphology::dist(pos[k as usize], pos[p as usize]);
+        k = p;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::tests::cube;
+
+    #[test]
+    fn closed_cube_is_valid() {
+        let r = cube().check();
+        assert!(r.is_valid(), "{r}");
+        assert_eq!(r.euler_characteristic, 2);
+        assert_eq!(r.components, 1);
+        assert_eq!(r.edges, 18);
+        assert_eq!(r.self_intersections, 0);
+    }
+
+    #[test]
+    fn removed_face_opens_the_cube() {
+        let mut m = cube();
+        m.faces.pop();
+        let r = m.check();
+        assert!(!r.is_closed());
+        assert_eq!(r.boundary_edges, 3);
+        assert_eq!(r.misoriented_edges, 0);
+        assert_eq!(r.self_intersections, 0);
+    }
+
+    #[test]
+    fn flipped_face_is_misoriented() {
+        let mut m = cube();
+        m.faces[3].swap(1, 2);
+        let r = m.check();
+        assert!(r.is_closed());
+        assert_eq!(r.misoriented_edges, 3);
+        assert!(!r.is_outward());
+        assert_eq!(r.self_intersections, 0);
+    }
+
+    #[test]
+    fn overlapping_copy_intersects() {
+        let mut m = cube();
+        let mut other = cube();
+        for v in &mut other.vertices {
+            for c in v.iter_mut() {
+                *c += 0.5;
+            }
+        }
+        m.append(&other);
+        let r = m.check();
+        assert!(r.is_closed() && r.is_manifold() && r.is_outward());
+        assert_eq!(r.components, 2);
+        assert!(r.self_intersections > 0);
+        assert!(!r.is_valid());
+    }
+
+    #[test]
+    fn pinched_vertex_is_nonmanifold() {
+        // Two tetrahedra sharing one vertex.
+        let v = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, -1.0],
+        ];
+        let tet = |a: u32, b: u32, c: u32, d: u32| vec![[a, c, b], [a, b, d], [a, d, c], [b, c, d]];
+        let mut f = tet(0, 1, 2, 3);
+        f.extend(tet(0, 4, 5, 6));
+        let m = Mesh::new(v, f).unwrap();
+        let r = m.check();
+        assert_eq!(r.nonmanifold_vertices, 1);
+        assert_eq!(r.nonmanifold_edges, 0);
+    }
+
+    #[test]
+    fn degenerate_and_duplicate_faces() {
+        let mut m = cube();
+        m.faces.push(m.faces[0]);
+        m.faces.push([0, 0, 1]);
+        let r = m.check();
+        assert_eq!(r.duplicate_faces, 1);
+        assert_eq!(r.degenerate_faces, 1);
+    }
+
+    #[test]
+    fn json_has_the_verdicts() {
+        let j = cube().check().to_json();
+        assert!(j.contains("\"closed\":true"));
+        assert!(j.contains("\"self_intersections\":0"));
+        assert!(j.starts_with('{') && j.ends_with('}'));
+    }
+}

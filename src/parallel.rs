@@ -1,0 +1,82 @@
+//! Data parallelism behind one small interface, with a serial shim.
+//!
+//! With the `parallel` feature (default) the helpers run on rayon; without it they
+//! run in order on the calling thread. Every helper keeps input order in its
+//! output, so results never depend on the number of threads.
+
+/// Runs `f` on a pool of `threads` threads (all cores when `None`), so a call
+/// from Python or the CLI can bound its parallelism without touching the global
+/// pool.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for `Some(0)` threads or when the pool cannot start.
+pub fn with_threads<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> T + Send,
+) -> crate::Result<T> {
+    if threads == Some(0) {
+        return Err(crate::Error::InvalidParam {
+            name: "threads",
+            reason: "must be at least 1".to_owned(),
+        });
+    }
+    #[cfg(feature = "parallel")]
+    {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = threads {
+            builder = builder.num_threads(n);
+        }
+        let pool = builder.build().map_err(|e| crate::Error::InvalidParam {
+            name: "threads",
+            reason: format!("cannot start a thread pool: {e}"),
+        })?;
+        Ok(pool.install(f))
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        Ok(f())
+    }
+}
+
+/// `items.iter().map(f).collect()`, in parallel when available, order kept.
+pub fn map<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> Vec<U> {
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        items.par_iter().map(f).collect()
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        items.iter().map(f).collect()
+    }
+}
+
+/// `(0..n).flat_map(f).collect()`, in parallel when available, order kept.
+pub fn flat_map_range<U: Send>(n: usize, f: impl Fn(usize) -> Vec<U> + Sync + Send) -> Vec<U> {
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        (0..n).into_par_iter().flat_map_iter(f).collect()
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        (0..n).flat_map(f).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn order_is_kept_whatever_the_thread_count() {
+        let items: Vec<u32> = (0..10_000).collect();
+        let one = with_threads(Some(1), || map(&items, |x| x * 2)).unwrap();
+        let many = with_threads(Some(4), || map(&items, |x| x * 2)).unwrap();
+        assert_eq!(one, many);
+        let fm = with_threads(Some(3), || flat_map_range(100, |i| vec![i; i % 3])).unwrap();
+        let serial: Vec<usize> = (0..100).flat_map(|i| vec![i; i % 3]).collect();
+        assert_eq!(fm, serial);
+        assert!(with_threads(Some(0), || ()).is_err());
+    }
+}

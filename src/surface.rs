@@ -1,0 +1,121 @@
+//! The mesh under construction: f64 positions, sample labels and triangles that
+//! can be removed (splicing cuts holes into tubes).
+//!
+//! Every stage appends here through [`Surface::vertex`] and [`Surface::triangle`]
+//! and refers to vertices by the indices those return, so no stage does index
+//! arithmetic on another stage's buffer. [`Surface::into_mesh`] drops removed
+//! triangles and unused vertices and converts to the f32 output type.
+
+use glam::DVec3;
+
+use crate::mesh::{BuildStats, Mesh};
+
+/// A growing triangle soup with labels; see the module docs.
+#[derive(Debug, Clone, Default)]
+pub struct Surface {
+    /// Vertex positions.
+    pub pos: Vec<DVec3>,
+    /// Sample index of each vertex.
+    pub label: Vec<u32>,
+    /// Triangles, counter-clockwise from outside.
+    pub tris: Vec<[u32; 3]>,
+    /// Whether each triangle is still part of the surface.
+    pub alive: Vec<bool>,
+}
+
+impl Surface {
+    /// An empty surface with room for `vertices` vertices.
+    pub fn with_capacity(vertices: usize) -> Surface {
+        Surface {
+            pos: Vec::with_capacity(vertices),
+            label: Vec::with_capacity(vertices),
+            tris: Vec::with_capacity(2 * vertices),
+            alive: Vec::with_capacity(2 * vertices),
+        }
+    }
+
+    /// Adds a vertex and returns its index.
+    #[inline]
+    pub fn vertex(&mut self, p: DVec3, label: u32) -> u32 {
+        self.pos.push(p);
+        self.label.push(label);
+        (self.pos.len() - 1) as u32
+    }
+
+    /// Adds a triangle and returns its index.
+    #[inline]
+    pub fn triangle(&mut self, a: u32, b: u32, c: u32) -> u32 {
+        self.tris.push([a, b, c]);
+        self.alive.push(true);
+        (self.tris.len() - 1) as u32
+    }
+
+    /// Number of triangles ever added (removed ones included).
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Appends `other`, returning the offset added to its vertex indices and the
+    /// offset added to its triangle indices.
+    pub fn append(&mut self, other: &Surface) -> (u32, u32) {
+        let v0 = self.pos.len() as u32;
+        let t0 = self.tris.len() as u32;
+        self.pos.extend_from_slice(&other.pos);
+        self.label.extend_from_slice(&other.label);
+        self.tris
+            .extend(other.tris.iter().map(|t| [t[0] + v0, t[1] + v0, t[2] + v0]));
+        self.alive.extend_from_slice(&other.alive);
+        (v0, t0)
+    }
+
+    /// The finished mesh: live triangles only, unused vertices dropped, f32.
+    pub fn into_mesh(self, stats: BuildStats) -> Mesh {
+        let mut remap = vec![u32::MAX; self.pos.len()];
+        let mut vertices = Vec::with_capacity(self.pos.len());
+        let mut vertex_sample = Vec::with_capacity(self.pos.len());
+        let mut faces = Vec::with_capacity(self.tris.len());
+        for (t, alive) in self.tris.iter().zip(&self.alive) {
+            if !alive {
+                continue;
+            }
+            let f = t.map(|k| {
+                let slot = &mut remap[k as usize];
+                if *slot == u32::MAX {
+                    *slot = vertices.len() as u32;
+                    let p = self.pos[k as usize];
+                    vertices.push([p.x as f32, p.y as f32, p.z as f32]);
+                    vertex_sample.push(self.label[k as usize]);
+                }
+                *slot
+            });
+            faces.push(f);
+        }
+        Mesh {
+            vertices,
+            faces,
+            vertex_sample,
+            stats,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn removed_triangles_and_their_lonely_vertices_disappear() {
+        let mut s = Surface::default();
+        let a = s.vertex(DVec3::ZERO, 0);
+        let b = s.vertex(DVec3::X, 1);
+        let c = s.vertex(DVec3::Y, 2);
+        let d = s.vertex(DVec3::Z, 3);
+        s.triangle(a, b, c);
+        let t = s.triangle(a, c, d);
+        s.alive[t as usize] = false;
+        let m = s.into_mesh(BuildStats::default());
+        assert_eq!(m.vertices.len(), 3);
+        assert_eq!(m.faces, vec![[0, 1, 2]]);
+        assert_eq!(m.vertex_sample, vec![0, 1, 2]);
+    }
+}

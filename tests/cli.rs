@@ -1,0 +1,217 @@
+//! The `neuromesh` binary: shapes of its commands, exit codes and messages.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn neuromesh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_neuromesh"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("neuromesh-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn info_succeeds_on_every_real_file() {
+    for f in common::real_files() {
+        let out = neuromesh(&["info", f.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            f.display(),
+            text(&out.stderr)
+        );
+        let s = text(&out.stdout);
+        assert!(s.contains("samples") && s.contains("soma"), "{s}");
+    }
+}
+
+#[test]
+fn info_json_is_machine_readable() {
+    let out = neuromesh(&["info", "tests/data/y_bifurcation.swc", "--json"]);
+    assert!(out.status.success());
+    let s = text(&out.stdout);
+    assert!(
+        s.trim_start().starts_with('{') && s.trim_end().ends_with('}'),
+        "{s}"
+    );
+    assert!(s.contains("\"samples\":7"), "{s}");
+    assert!(s.contains("\"branch_points\":{\"2\":1}"), "{s}");
+}
+
+#[test]
+fn malformed_input_exits_1_with_file_and_line() {
+    let cases: [(&[u8], usize); 8] = [
+        (b"1 1 0 0 0 1 -1\n2 3 1 0\n", 2),
+        (b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n", 2),
+        (b"1 1 0 0 0 inf -1\n", 1),
+        (b"1 1 0 0 0 1 -1\n1 3 1 0 0 1 1\n", 2),
+        (b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 5\n", 2),
+        (b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 3\n3 3 1 0 0 1 2\n", 2),
+        (b"", 1),
+        (b"\x00\x01\x02", 1),
+    ];
+    for (i, (content, line)) in cases.iter().enumerate() {
+        let p = tmp(&format!("bad{i}.swc"));
+        std::fs::write(&p, content).unwrap();
+        let ps = p.to_str().unwrap();
+        for args in [vec!["info", ps], vec!["mesh", ps, "-o", "/dev/null/x.obj"]] {
+            let out = neuromesh(&args);
+            assert_eq!(out.status.code(), Some(1), "case {i}: {args:?}");
+            let err = text(&out.stderr);
+            let expect = format!("error: {ps}:{line}: ");
+            assert!(
+                err.starts_with(&expect),
+                "case {i}: `{err}` should start with `{expect}`"
+            );
+            assert_eq!(err.lines().count(), 1, "one line: {err}");
+        }
+    }
+}
+
+#[test]
+fn missing_file_and_bad_output_extension() {
+    let out = neuromesh(&["info", "no/such/file.swc"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).starts_with("error: no/such/file.swc: "));
+    let out = neuromesh(&["mesh", "tests/data/y_bifurcation.swc", "-o", "out.xyz"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains(".obj, .ply or .stl"));
+    let out = neuromesh(&[
+        "mesh",
+        "tests/data/y_bifurcation.swc",
+        "-o",
+        "x.obj",
+        "--min-vertices",
+        "5",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("min_vertices"));
+}
+
+#[test]
+fn mesh_writes_each_format_and_check_reads_it_back() {
+    for ext in ["obj", "ply", "stl"] {
+        let p = tmp(&format!("y.{ext}"));
+        let ps = p.to_str().unwrap();
+        let out = neuromesh(&["mesh", "tests/data/y_bifurcation.swc", "-o", ps]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(Path::new(ps).metadata().unwrap().len() > 0);
+        let out = neuromesh(&["check", ps, "--json"]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let s = text(&out.stdout);
+        assert!(s.contains("\"closed\":true"), "{ext}: {s}");
+    }
+}
+
+/// A box as OBJ text with optional faults, for `check`.
+fn box_obj(drop_last: bool, flip: bool, overlap: bool) -> String {
+    let mut v: Vec<[f32; 3]> = (0..8)
+        .map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32])
+        .collect();
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    if drop_last {
+        f.pop();
+    }
+    if flip {
+        f[3].swap(1, 2);
+    }
+    if overlap {
+        let n = v.len() as u32;
+        let moved: Vec<[f32; 3]> = v.iter().map(|p| p.map(|c| c + 0.5)).collect();
+        let shifted: Vec<[u32; 3]> = f.iter().map(|t| t.map(|k| k + n)).collect();
+        v.extend(moved);
+        f.extend(shifted);
+    }
+    let mut s = String::new();
+    for p in &v {
+        s.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+    }
+    for t in &f {
+        s.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    s
+}
+
+#[test]
+fn check_reports_exactly_the_faults_of_a_box() {
+    let run = |name: &str, obj: String| -> String {
+        let p = tmp(name);
+        std::fs::write(&p, obj).unwrap();
+        let out = neuromesh(&["check", p.to_str().unwrap(), "--json"]);
+        assert!(out.status.success());
+        text(&out.stdout)
+    };
+    let ok = run("box.obj", box_obj(false, false, false));
+    for key in [
+        "\"closed\":true",
+        "\"manifold\":true",
+        "\"outward\":true",
+        "\"self_intersections\":0",
+        "\"valid\":true",
+    ] {
+        assert!(ok.contains(key), "{key} in {ok}");
+    }
+    let open = run("open.obj", box_obj(true, false, false));
+    assert!(
+        open.contains("\"closed\":false") && open.contains("\"boundary_edges\":3"),
+        "{open}"
+    );
+    assert!(
+        open.contains("\"misoriented_edges\":0") && open.contains("\"self_intersections\":0"),
+        "{open}"
+    );
+    let flipped = run("flip.obj", box_obj(false, true, false));
+    assert!(
+        flipped.contains("\"closed\":true") && flipped.contains("\"misoriented_edges\":3"),
+        "{flipped}"
+    );
+    assert!(flipped.contains("\"self_intersections\":0"), "{flipped}");
+    let overlap = run("overlap.obj", box_obj(false, false, true));
+    assert!(
+        overlap.contains("\"closed\":true") && overlap.contains("\"components\":2"),
+        "{overlap}"
+    );
+    assert!(!overlap.contains("\"self_intersections\":0"), "{overlap}");
+
+    let p = tmp("strict.obj");
+    std::fs::write(&p, box_obj(true, false, false)).unwrap();
+    let out = neuromesh(&["check", p.to_str().unwrap(), "--strict"]);
+    assert_eq!(out.status.code(), Some(3));
+}
+
+#[test]
+fn help_lists_the_parameters() {
+    let out = neuromesh(&["mesh", "--help"]);
+    let s = text(&out.stdout);
+    for name in neuromesh::params::PARAM_NAMES {
+        assert!(
+            s.contains(&format!("--{}", name.replace('_', "-"))),
+            "{name} missing from\n{s}"
+        );
+    }
+}
