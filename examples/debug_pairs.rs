@@ -15,8 +15,13 @@ fn main() {
         let fb = mesh.faces[p[1] as usize];
         let la: Vec<u32> = fa.iter().map(|&k| mesh.vertex_sample[k as usize]).collect();
         let lb: Vec<u32> = fb.iter().map(|&k| mesh.vertex_sample[k as usize]).collect();
+        let depth = neuromesh::check::tree_depths(&m);
+        let sk = neuromesh::check::is_skeleton_overlap(&view, &m, &depth, *p);
+        if sk && std::env::var_os("SHOW_SKELETON").is_none() {
+            continue;
+        }
         println!(
-            "pair {:?}: faces {:?} {:?} labels {:?} {:?} at {:?}",
+            "skeleton={sk} pair {:?}: faces {:?} {:?} labels {:?} {:?} at {:?}",
             p, fa, fb, la, lb, mesh.vertices[fa[0] as usize]
         );
         shown += 1;

@@ -12,10 +12,8 @@
 //! get their own tests. Given the morphology the mesh came from,
 //! [`Mesh::check_with`] splits the intersecting pairs into those the
 //! construction made and those where the skeleton itself overlaps (two branches
-//! far apart in the tree passing through each other in space): a pair is a
-//! *skeleton overlap* when the tree path between the two triangles' samples is
-//! longer than four times the sum of their radii plus one resampling step,
-//! which no junction or tube of ours spans.
+//! far apart in the tree passing through each other in space), by the tree path
+//! between the two triangles' samples: see [`is_skeleton_overlap`].
 
 use std::collections::HashMap;
 
@@ -251,9 +249,10 @@ impl MeshView<'_> {
         if let Some(m) = morphology
             && self.vertex_sample.len() == self.vertices.len()
         {
+            let depth = tree_depths(m);
             let skeleton = pairs
                 .iter()
-                .filter(|p| is_skeleton_overlap(self, m, **p))
+                .filter(|p| is_skeleton_overlap(self, m, &depth, **p))
                 .count();
             r.skeleton_overlaps = Some(skeleton);
             r.construction_intersections = Some(pairs.len() - skeleton);
@@ -455,7 +454,9 @@ pub fn face_components(mesh: &MeshView<'_>) -> Vec<u32> {
 /// All pairs of faces that intersect and are not neighbours (or are neighbours
 /// that overlap beyond their shared vertex or edge), sorted.
 pub fn self_intersections(mesh: &MeshView<'_>) -> Vec<[u32; 2]> {
-    let origin = mesh.center();
+    // Absolute coordinates: the f32 values convert to f64 exactly, so the exact
+    // predicates judge the mesh as stored.
+    let origin = [0.0; 3];
     let tris: Vec<[[f64; 3]; 3]> = (0..mesh.faces.len())
         .map(|f| mesh.triangle(f, origin))
         .collect();
@@ -515,59 +516,69 @@ fn face_sample(mesh: &MeshView<'_>, f: u32) -> u32 {
     mesh.vertex_sample[mesh.faces[f as usize][0] as usize]
 }
 
-fn is_skeleton_overlap(mesh: &MeshView<'_>, m: &Morphology, pair: [u32; 2]) -> bool {
+/// Depth of every sample in the morphology's geometry tree.
+pub fn tree_depths(m: &Morphology) -> Vec<u32> {
+    let mut depth = vec![0u32; m.len()];
+    for &i in m.order() {
+        let p = m.parents()[i as usize];
+        if p != NO_PARENT {
+            depth[i as usize] = depth[p as usize] + 1;
+        }
+    }
+    depth
+}
+
+/// Whether an intersecting face pair comes from the skeleton overlapping itself
+/// rather than from the construction.
+///
+/// The two faces' samples `a` and `b` are joined by a path in the tree (or lie
+/// in different trees: always an overlap). The pair is a skeleton overlap when
+/// that path wanders away between them: some sample `x` on it is farther than
+/// `r_x + r + D` from both (`r` being `a`'s or `b`'s radius), with the reach
+/// `D = 3·(r_a + r_b)`. Then the skeleton leaves and comes back to where it was,
+/// and a mesh of the union of round cones would have to merge the two parts.
+/// The reach covers everything a junction builds: a secondary leaving at 20°
+/// clears its primary about `3·(R + r)` from the branch point, and the faces
+/// of its junction are labelled with samples on either side of that stretch.
+/// The rule errs towards "construction": a thin branch that curls back into a
+/// much thicker part of itself within that reach counts as construction.
+pub fn is_skeleton_overlap(
+    mesh: &MeshView<'_>,
+    m: &Morphology,
+    depth: &[u32],
+    pair: [u32; 2],
+) -> bool {
     let (a, b) = (face_sample(mesh, pair[0]), face_sample(mesh, pair[1]));
     if a as usize >= m.len() || b as usize >= m.len() {
         return false;
     }
-    let tree = m.tree_of();
-    if tree[a as usize] != tree[b as usize] {
+    if m.tree_of()[a as usize] != m.tree_of()[b as usize] {
         return true;
     }
-    let r = m.radii();
-    let reach = 4.0 * (r[a as usize] + r[b as usize]) + step_len(m, a) + step_len(m, b);
-    tree_path_length(m, a, b, reach) > reach
-}
-
-fn step_len(m: &Morphology, i: u32) -> f64 {
-    let p = m.parents()[i as usize];
-    if p == NO_PARENT {
-        0.0
-    } else {
-        crate::morphology::dist(m.positions()[i as usize], m.positions()[p as usize])
-    }
-}
-
-/// Length of the tree path between two samples of the same tree, stopping early
-/// once it exceeds `limit` (the caller only needs to know that).
-fn tree_path_length(m: &Morphology, a: u32, b: u32, limit: f64) -> f64 {
-    let parents = m.parents();
-    let pos = m.positions();
-    // Walk up from `a`, remembering distances; then walk up from `b` until a
-    // remembered ancestor is met.
-    let mut up_a: HashMap<u32, f64> = HashMap::new();
-    let mut k = a;
-    let mut d = 0.0;
-    up_a.insert(k, 0.0);
-    while parents[k as usize] != NO_PARENT && d <= 2.0 * limit {
-        let p = parents[k as usize];
-        d += crate::morphology::dist(pos[k as usize], pos[p as usize]);
-        up_a.insert(p, d);
-        k = p;
-    }
-    let mut k = b;
-    let mut d = 0.0;
-    loop {
-        if let Some(da) = up_a.get(&k) {
-            return da + d;
+    let (pos, r, parents) = (m.positions(), m.radii(), m.parents());
+    let (ra, rb) = (r[a as usize], r[b as usize]);
+    let reach = 3.0 * (ra + rb);
+    let (pa, pb) = (pos[a as usize], pos[b as usize]);
+    let dist = crate::morphology::dist;
+    let away = |x: u32| {
+        let (px, rx) = (pos[x as usize], r[x as usize]);
+        dist(px, pa) > ra + rx + reach && dist(px, pb) > rb + rx + reach
+    };
+    let (mut x, mut y) = (a, b);
+    while x != y {
+        if depth[x as usize] >= depth[y as usize] {
+            x = parents[x as usize];
+        } else {
+            y = parents[y as usize];
         }
-        let p = parents[k as usize];
-        if p == NO_PARENT || d > 2.0 * limit {
-            return f64::INFINITY;
+        if x == NO_PARENT || y == NO_PARENT {
+            return true;
         }
-        d += crate::morphology::dist(pos[k as usize], pos[p as usize]);
-        k = p;
+        if away(x) || away(y) {
+            return true;
+        }
     }
+    false
 }
 
 #[cfg(test)]

@@ -1,66 +1,81 @@
-//! Small exact-in-spirit geometric predicates on f64 triangles.
+//! Geometric predicates on triangles, exact where it decides topology.
 //!
-//! The intersection tests are built on one orientation determinant, so the same
-//! sign convention decides every case, and touching counts as intersecting
-//! (closed triangles): a vertex lying exactly on another triangle is a defect for
-//! a mesh that must be free of self-intersections. Topological neighbours (pairs
-//! that share a vertex or an edge) have their own tests, because a shared vertex
-//! always "intersects".
+//! The intersection tests use Shewchuk's adaptive exact orientation predicates
+//! (the `robust` crate, which spade also uses), so every sign is the true sign
+//! for the given floating-point coordinates: exactly coplanar neighbours (the
+//! strips of a straight tube are) are recognised as coplanar, and nearly
+//! coplanar ones are decided by their real geometry, not by rounding noise.
+//! Touching counts as intersecting (closed triangles). Topological neighbours
+//! (pairs sharing a vertex or an edge) have their own tests, since a shared
+//! vertex always "touches".
 
 use crate::mesh::{cross, dot, sub};
 
 /// A point or vector.
 pub type P3 = [f64; 3];
 
-/// Six times the signed volume of the tetrahedron (a, b, c, d): positive when d
-/// lies on the side of the plane (a, b, c) that its normal (b-a)×(c-a) points to.
+fn c3(p: P3) -> robust::Coord3D<f64> {
+    robust::Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+fn c2(p: [f64; 2]) -> robust::Coord<f64> {
+    robust::Coord { x: p[0], y: p[1] }
+}
+
+/// Six times the signed volume of the tetrahedron (a, b, c, d), in plain floating
+/// point: positive when d lies on the side of the plane (a, b, c) that its normal
+/// (b−a)×(c−a) points to.
 #[inline]
 pub fn orient3d(a: P3, b: P3, c: P3, d: P3) -> f64 {
     dot(cross(sub(b, a), sub(c, a)), sub(d, a))
 }
 
-/// Sign with a zero band relative to the magnitudes involved.
+/// The exact sign of [`orient3d`].
 #[inline]
-fn sign(v: f64, scale: f64) -> i8 {
-    let eps = 1e-13 * scale;
-    if v > eps {
+pub fn orient3d_sign(a: P3, b: P3, c: P3, d: P3) -> i8 {
+    // robust's convention is the opposite: positive when d is below the plane.
+    let v = robust::orient3d(c3(a), c3(b), c3(c), c3(d));
+    if v < 0.0 {
         1
-    } else if v < -eps {
+    } else if v > 0.0 {
         -1
     } else {
         0
     }
 }
 
-fn scale_of(points: &[P3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
+/// The exact sign of the 2D orientation (positive: counter-clockwise).
+#[inline]
+fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let v = robust::orient2d(c2(a), c2(b), c2(c));
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
     }
-    let d = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-    d * d * d
 }
 
 /// Whether the closed segment (s, e) meets the closed triangle t.
 pub fn segment_hits_triangle(s: P3, e: P3, t: [P3; 3]) -> bool {
-    let scale = scale_of(&[s, e, t[0], t[1], t[2]]);
-    let ds = sign(orient3d(t[0], t[1], t[2], s), scale);
-    let de = sign(orient3d(t[0], t[1], t[2], e), scale);
+    let ds = orient3d_sign(t[0], t[1], t[2], s);
+    let de = orient3d_sign(t[0], t[1], t[2], e);
     if ds != 0 && ds == de {
         return false;
     }
     if ds == 0 && de == 0 {
         return coplanar_segment_triangle(s, e, t);
     }
-    // The segment crosses the plane: the crossing is inside the triangle when the
-    // segment's line passes on the same side of all three edges.
-    let o1 = sign(orient3d(s, e, t[0], t[1]), scale);
-    let o2 = sign(orient3d(s, e, t[1], t[2]), scale);
-    let o3 = sign(orient3d(s, e, t[2], t[0]), scale);
+    // The segment crosses (or touches) the plane: the crossing is inside the
+    // triangle when the segment's line passes on the same side of all three edges.
+    let o1 = orient3d_sign(s, e, t[0], t[1]);
+    let o2 = orient3d_sign(s, e, t[1], t[2]);
+    let o3 = orient3d_sign(s, e, t[2], t[0]);
     !((o1 > 0 || o2 > 0 || o3 > 0) && (o1 < 0 || o2 < 0 || o3 < 0))
 }
 
@@ -84,18 +99,11 @@ fn dominant_axis(n: P3) -> usize {
     }
 }
 
-fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-fn segments_cross_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], scale: f64) -> bool {
-    let o1 = sign(orient2d(a, b, c), scale);
-    let o2 = sign(orient2d(a, b, d), scale);
-    let o3 = sign(orient2d(c, d, a), scale);
-    let o4 = sign(orient2d(c, d, b), scale);
-    if o1 != o2 && o3 != o4 && !(o1 == 0 && o2 == 0) {
-        return true;
-    }
+fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let o1 = orient2d_sign(a, b, c);
+    let o2 = orient2d_sign(a, b, d);
+    let o3 = orient2d_sign(c, d, a);
+    let o4 = orient2d_sign(c, d, b);
     if o1 == 0 && o2 == 0 {
         // Collinear: overlap of the projections on the longer axis.
         let axis = if (b[0] - a[0]).abs() >= (b[1] - a[1]).abs() {
@@ -107,13 +115,13 @@ fn segments_cross_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2], scale: 
         let (lo2, hi2) = (c[axis].min(d[axis]), c[axis].max(d[axis]));
         return lo1 <= hi2 && lo2 <= hi1;
     }
-    false
+    o1 * o2 <= 0 && o3 * o4 <= 0
 }
 
-fn point_in_triangle_2d(p: [f64; 2], t: [[f64; 2]; 3], scale: f64) -> bool {
-    let o1 = sign(orient2d(t[0], t[1], p), scale);
-    let o2 = sign(orient2d(t[1], t[2], p), scale);
-    let o3 = sign(orient2d(t[2], t[0], p), scale);
+fn point_in_triangle_2d(p: [f64; 2], t: [[f64; 2]; 3]) -> bool {
+    let o1 = orient2d_sign(t[0], t[1], p);
+    let o2 = orient2d_sign(t[1], t[2], p);
+    let o3 = orient2d_sign(t[2], t[0], p);
     !((o1 > 0 || o2 > 0 || o3 > 0) && (o1 < 0 || o2 < 0 || o3 < 0))
 }
 
@@ -125,20 +133,18 @@ fn coplanar_segment_triangle(s: P3, e: P3, t: [P3; 3]) -> bool {
         project2(t[2], axis),
     ];
     let (s2, e2) = (project2(s, axis), project2(e, axis));
-    let scale = scale_of(&[s, e, t[0], t[1], t[2]]).powf(2.0 / 3.0);
-    point_in_triangle_2d(s2, t2, scale)
-        || point_in_triangle_2d(e2, t2, scale)
-        || (0..3).any(|i| segments_cross_2d(s2, e2, t2[i], t2[(i + 1) % 3], scale))
+    point_in_triangle_2d(s2, t2)
+        || point_in_triangle_2d(e2, t2)
+        || (0..3).any(|i| segments_meet_2d(s2, e2, t2[i], t2[(i + 1) % 3]))
 }
 
 /// Whether two closed triangles with no shared vertex intersect.
 pub fn triangles_intersect(a: [P3; 3], b: [P3; 3]) -> bool {
-    let scale = scale_of(&[a[0], a[1], a[2], b[0], b[1], b[2]]);
-    let db: [i8; 3] = std::array::from_fn(|i| sign(orient3d(a[0], a[1], a[2], b[i]), scale));
+    let db: [i8; 3] = std::array::from_fn(|i| orient3d_sign(a[0], a[1], a[2], b[i]));
     if (db[0] > 0 && db[1] > 0 && db[2] > 0) || (db[0] < 0 && db[1] < 0 && db[2] < 0) {
         return false;
     }
-    let da: [i8; 3] = std::array::from_fn(|i| sign(orient3d(b[0], b[1], b[2], a[i]), scale));
+    let da: [i8; 3] = std::array::from_fn(|i| orient3d_sign(b[0], b[1], b[2], a[i]));
     if (da[0] > 0 && da[1] > 0 && da[2] > 0) || (da[0] < 0 && da[1] < 0 && da[2] < 0) {
         return false;
     }
@@ -147,67 +153,56 @@ pub fn triangles_intersect(a: [P3; 3], b: [P3; 3]) -> bool {
         || (0..3).any(|i| segment_hits_triangle(b[i], b[(i + 1) % 3], a))
 }
 
+/// Whether direction `p` (from `v`) lies strictly inside the wedge spanned by
+/// `a1` and `a2` at `v` (all in 2D).
+fn strictly_in_wedge(v: [f64; 2], a1: [f64; 2], a2: [f64; 2], p: [f64; 2]) -> bool {
+    let turn = orient2d_sign(v, a1, a2);
+    turn != 0 && orient2d_sign(v, a1, p) == turn && orient2d_sign(v, p, a2) == turn
+}
+
 /// Whether two triangles that share exactly the vertex `a[0] == b[0]` overlap
 /// anywhere else.
 pub fn triangles_intersect_sharing_vertex(a: [P3; 3], b: [P3; 3]) -> bool {
-    // Away from the shared vertex, the intersection reaches an opposite edge.
-    if segment_hits_triangle_open_at(b[1], b[2], a) || segment_hits_triangle_open_at(a[1], a[2], b)
-    {
-        return true;
-    }
-    // Coplanar fans can overlap without an opposite edge crossing (one sector
-    // inside the other).
-    let scale = scale_of(&[a[0], a[1], a[2], b[1], b[2]]);
-    let d1 = sign(orient3d(a[0], a[1], a[2], b[1]), scale);
-    let d2 = sign(orient3d(a[0], a[1], a[2], b[2]), scale);
+    let d1 = orient3d_sign(a[0], a[1], a[2], b[1]);
+    let d2 = orient3d_sign(a[0], a[1], a[2], b[2]);
     if d1 == 0 && d2 == 0 {
+        // Coplanar fans overlap exactly when their wedges at the shared vertex do.
         let axis = dominant_axis(cross(sub(a[1], a[0]), sub(a[2], a[0])));
-        let ta = [
+        let [v, a1, a2] = [
             project2(a[0], axis),
             project2(a[1], axis),
             project2(a[2], axis),
         ];
-        let tb = [
+        let [_, b1, b2] = [
             project2(b[0], axis),
             project2(b[1], axis),
             project2(b[2], axis),
         ];
-        let s2 = scale.powf(2.0 / 3.0);
-        // Points slightly inside each edge from the shared vertex.
-        let inner = |t: [[f64; 2]; 3], k: usize| {
-            [
-                t[0][0] + 1e-6 * (t[k][0] - t[0][0]) + 1e-6 * (t[3 - k][0] - t[0][0]),
-                t[0][1] + 1e-6 * (t[k][1] - t[0][1]) + 1e-6 * (t[3 - k][1] - t[0][1]),
-            ]
+        let same_ray = |p: [f64; 2], q: [f64; 2]| {
+            orient2d_sign(v, p, q) == 0
+                && (p[0] - v[0]) * (q[0] - v[0]) + (p[1] - v[1]) * (q[1] - v[1]) > 0.0
         };
-        return point_in_triangle_2d(inner(tb, 1), ta, s2)
-            || point_in_triangle_2d(inner(ta, 1), tb, s2);
+        return strictly_in_wedge(v, a1, a2, b1)
+            || strictly_in_wedge(v, a1, a2, b2)
+            || strictly_in_wedge(v, b1, b2, a1)
+            || strictly_in_wedge(v, b1, b2, a2)
+            || (same_ray(a1, b1) && same_ray(a2, b2))
+            || (same_ray(a1, b2) && same_ray(a2, b1));
     }
-    false
-}
-
-/// Segment-triangle test that ignores contact at the triangle's vertex t[0]
-/// (the shared vertex) by shrinking the triangle slightly towards its far edge.
-fn segment_hits_triangle_open_at(s: P3, e: P3, t: [P3; 3]) -> bool {
-    let shrink = 1e-9;
-    let moved = [
-        t[0][0] + shrink * (t[1][0] + t[2][0] - 2.0 * t[0][0]),
-        t[0][1] + shrink * (t[1][1] + t[2][1] - 2.0 * t[0][1]),
-        t[0][2] + shrink * (t[1][2] + t[2][2] - 2.0 * t[0][2]),
-    ];
-    segment_hits_triangle(s, e, [moved, t[1], t[2]])
+    // Otherwise the intersection (a segment from the shared vertex) ends on an
+    // opposite edge, which cannot pass through the shared vertex itself.
+    segment_hits_triangle(b[1], b[2], a) || segment_hits_triangle(a[1], a[2], b)
 }
 
 /// Whether two triangles sharing the edge (a[0], a[1]) == (b[0], b[1]) in some
 /// order fold onto each other (coplanar, third vertices on the same side).
 pub fn triangles_fold_on_shared_edge(a: [P3; 3], b: [P3; 3]) -> bool {
-    let scale = scale_of(&[a[0], a[1], a[2], b[2]]);
-    if sign(orient3d(a[0], a[1], a[2], b[2]), scale) != 0 {
+    if orient3d_sign(a[0], a[1], a[2], b[2]) != 0 {
         return false;
     }
-    let n = cross(sub(a[1], a[0]), sub(a[2], a[0]));
-    let side = |p: P3| dot(cross(sub(a[1], a[0]), sub(p, a[0])), n);
-    side(a[2]) * side(b[2]) > 0.0
+    let axis = dominant_axis(cross(sub(a[1], a[0]), sub(a[2], a[0])));
+    let (p, q) = (project2(a[0], axis), project2(a[1], axis));
+    orient2d_sign(p, q, project2(a[2], axis)) == orient2d_sign(p, q, project2(b[2], axis))
 }
 
 /// Möller–Trumbore: distance along `dir` (not normalised) to triangle `t`, if the
@@ -271,6 +266,23 @@ mod tests {
         // Coplanar, one sector inside the other.
         let inside = [[0.0, 0.0, 0.0], [0.5, 0.1, 0.0], [0.1, 0.5, 0.0]];
         assert!(triangles_intersect_sharing_vertex(T, inside));
+    }
+
+    #[test]
+    fn coplanar_neighbours_in_a_strip_do_not_intersect() {
+        // Two triangles of a straight tube's strip, exactly coplanar, sharing one
+        // vertex; f32-like coordinates far from the origin.
+        let a = [
+            [428.41558837890625, -378.8808059692383, 90.04707007855177],
+            [428.34503173828125, -378.8163528442383, 90.04707007855177],
+            [428.40911865234375, -378.8878860473633, 90.10665564984083],
+        ];
+        let b = [
+            [428.41558837890625, -378.8808059692383, 90.04707007855177],
+            [428.47967529296875, -378.9523391723633, 90.10665564984083],
+            [428.48614501953125, -378.9452590942383, 90.04707007855177],
+        ];
+        assert!(!triangles_intersect_sharing_vertex(a, b));
     }
 
     #[test]

@@ -40,6 +40,19 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
+    let (surface, _, _, stats) = build(morphology, params)?;
+    Ok(surface.into_mesh(stats))
+}
+
+/// The whole construction with its intermediate structures (branches and tubes
+/// with their rings), for inspection and debugging tools.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn build(
+    morphology: &Morphology,
+    params: &Params,
+) -> Result<(Surface, Vec<Branch>, Vec<Tube>, BuildStats)> {
     params.validate()?;
     let m = morphology.scaled(params.scale)?;
     let geometry = Geometry::new(&m, params);
@@ -73,7 +86,7 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
             tubes.push(t);
         }
     }
-    Ok(surface.into_mesh(stats))
+    Ok((surface, branches, tubes, stats))
 }
 
 /// Positions and effective radii of the samples, ready for geometry.

@@ -305,7 +305,7 @@ impl PyMorphology {
     // Literal defaults for introspection and stubtest; a Python test checks
     // them against `DEFAULTS`, which comes from `Params::DEFAULT`.
     #[pyo3(
-        text_signature = "($self, *, angle_threshold=10.0, k1=1, min_vertices=8, max_vertices=64, cap_rings=3, resolution=1.0, min_radius=0.0, scale=1.0)"
+        text_signature = "($self, *, angle_threshold=10.0, k1=1, min_vertices=12, max_vertices=64, cap_rings=3, resolution=1.0, min_radius=0.0, scale=1.0)"
     )]
     fn mesh<'py>(
         &self,
@@ -402,7 +402,7 @@ fn python_mesh(py: Python<'_>, mesh: Mesh) -> PyResult<Bound<'_, PyAny>> {
     min_radius=DEFAULT_MIN_RADIUS, scale=DEFAULT_SCALE
 ))]
 #[pyo3(
-    text_signature = "(path, *, angle_threshold=10.0, k1=1, min_vertices=8, max_vertices=64, cap_rings=3, resolution=1.0, min_radius=0.0, scale=1.0)"
+    text_signature = "(path, *, angle_threshold=10.0, k1=1, min_vertices=12, max_vertices=64, cap_rings=3, resolution=1.0, min_radius=0.0, scale=1.0)"
 )]
 fn mesh_swc_py(
     py: Python<'_>,

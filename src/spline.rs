@@ -13,6 +13,10 @@
 //! loops, the centripetal one provably cannot. End segments use reflected phantom
 //! points, which gives straight ends.
 //!
+//! Contour orientation: [`smooth_tangents`] then turns each tangent into the
+//! direction of the curve over one radius either side, the scale at which a disc
+//! of that radius sees the skeleton.
+//!
 //! Robustness: points closer than a tiny fraction of `r_avg` to their predecessor
 //! are merged first (keeping the larger radius), and a tangent that vanishes
 //! (a cusp) falls back to the chord, so duplicate and near-duplicate points never
@@ -133,6 +137,54 @@ pub fn resample(points: &[DVec3], radii: &[f64], r_avg: f64, k1: u32) -> Vec<Sam
         original: true,
     });
     out
+}
+
+/// Replaces each tangent by the direction of the curve at the scale of the tube:
+/// the chord from the point one radius back to the point one radius ahead along
+/// the resampled curve (one-sided at the ends).
+///
+/// A contour is a disc of radius r, so its orientation should follow the
+/// skeleton at the scale r. Tracing jitter (points closer together than the
+/// radius, wiggling by tens of degrees) otherwise tilts neighbouring discs into
+/// each other, and every such contour would have to be skipped. Where the
+/// skeleton bends on a scale larger than r (the common case) the chord is the
+/// spline's derivative to first order.
+pub fn smooth_tangents(samples: &mut [Sample]) {
+    let n = samples.len();
+    if n < 2 {
+        return;
+    }
+    let mut arc = Vec::with_capacity(n);
+    let mut acc = 0.0;
+    arc.push(0.0);
+    for w in samples.windows(2) {
+        acc += w[0].pos.distance(w[1].pos);
+        arc.push(acc);
+    }
+    let total = acc;
+    let at = |s: f64| -> DVec3 {
+        let k = arc.partition_point(|&a| a < s).clamp(1, n - 1);
+        let (a0, a1) = (arc[k - 1], arc[k]);
+        let t = if a1 > a0 {
+            ((s - a0) / (a1 - a0)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        samples[k - 1].pos.lerp(samples[k].pos, t)
+    };
+    let smoothed: Vec<Option<DVec3>> = (0..n)
+        .map(|i| {
+            let h = samples[i].radius;
+            let chord = at((arc[i] + h).min(total)) - at((arc[i] - h).max(0.0));
+            let len = chord.length();
+            (len > 1e-9 * h.max(1e-300)).then(|| chord / len)
+        })
+        .collect();
+    for (s, t) in samples.iter_mut().zip(smoothed) {
+        if let Some(t) = t {
+            s.tangent = t;
+        }
+    }
 }
 
 /// One centripetal Catmull-Rom segment from p1 to p2 as a cubic a·u³ + b·u² + c·u + d.

@@ -1,12 +1,11 @@
 //! Branch tubes: contours connected into a surface, closed by tip caps
 //! (paper §3.2, "Contour Connection").
 //!
-//! * **Connection.** Contour C_i is projected on the plane through P_i with C_{i+1}'s
-//!   normal, which makes the two contours parallel. Starting from the two first
-//!   vertices (which correspond, thanks to the push-forward frames), each step
-//!   adds the triangle whose new diagonal makes the smaller angle with P_iP_{i+1}:
-//!   the straighter one. The result has m_i + m_{i+1} triangles; the original
-//!   coordinates are used for the output.
+//! * **Connection.** Starting from the two first vertices (which correspond,
+//!   thanks to the push-forward frames), each step adds one triangle, advancing
+//!   on whichever contour comes next in angle about the axis P_iP_{i+1}: the
+//!   paper's minimum included-angle rule, in a form that provably never folds a
+//!   band (see [`connect_loops`]). The result has m_i + m_{i+1} triangles.
 //! * **Caps.** A free end is closed by a dome inside the end sample's sphere:
 //!   `cap_rings` rings at heights r·sin φ and radii r·cos φ (φ evenly spaced in
 //!   (0, π/2)) and an apex at distance r: a polygonal hemisphere, the round
@@ -101,6 +100,8 @@ pub struct Track {
     pub radii: Vec<f64>,
     /// Edge length used by formulas 1 and 3 (r_avg / resolution).
     pub edge: f64,
+    /// Arc length along the resampled curve at each point.
+    pub arc: Vec<f64>,
 }
 
 impl Track {
@@ -108,7 +109,8 @@ impl Track {
     pub fn new(points: &[DVec3], radii: &[f64], params: &Params, u0: Option<DVec3>) -> Track {
         let r_avg = radii.iter().sum::<f64>() / radii.len() as f64;
         let edge = r_avg / params.resolution;
-        let samples = spline::resample(points, radii, edge, params.k1);
+        let mut samples = spline::resample(points, radii, edge, params.k1);
+        spline::smooth_tangents(&mut samples);
         let start_u = u0
             .map(|u| u - u.dot(samples[0].tangent) * samples[0].tangent)
             .filter(|u| u.length_squared() > 1e-12)
@@ -128,12 +130,21 @@ impl Track {
             .zip(&counts)
             .map(|(s, &m)| contour::polygon_radius(s.radius, m))
             .collect();
+        let mut arc = Vec::with_capacity(samples.len());
+        let mut acc = 0.0;
+        for (i, s) in samples.iter().enumerate() {
+            if i > 0 {
+                acc += s.pos.distance(samples[i - 1].pos);
+            }
+            arc.push(acc);
+        }
         Track {
             samples,
             frames,
             counts,
             radii,
             edge,
+            arc,
         }
     }
 
@@ -152,10 +163,33 @@ impl Track {
     }
 }
 
+/// Whether the contour of point `k` may follow the kept contour of point `j`:
+/// the two discs clear each other (the paper's intersection rule) and the band
+/// between them is a sound frustum, its axis within 60° of both normals. The
+/// second condition rejects contours that clear `j` only because the skeleton
+/// jogged sideways in between; a band across such a jog would cut the corner
+/// and be nearly edge-on to its own axis.
+pub fn may_follow(track: &Track, j: usize, k: usize) -> bool {
+    if !track.disc(j).clears(&track.disc(k), track.margin(j, k)) {
+        return false;
+    }
+    let d = (track.samples[k].pos - track.samples[j].pos).normalize_or_zero();
+    d.dot(track.samples[j].tangent) >= 0.5 && d.dot(track.samples[k].tangent) >= 0.5
+}
+
 /// Chooses which contours to keep, in pieces. Each piece is a list of point
-/// indices whose consecutive discs clear each other. `first` is the first point
-/// to consider (earlier ones are inside something else). Also returns how many
-/// contours were skipped.
+/// indices in which each contour may follow the previous one ([`may_follow`]);
+/// skipped contours leave no hole because the next kept one is connected to the
+/// last. A piece ends, and the rest of the branch starts a new piece (to be
+/// spliced onto the first like a secondary branch), when
+///
+/// * no contour within a few radii of path can follow (a hairpin tighter than
+///   the tube, a spike in the trace), or
+/// * the next band would reach an earlier, non-adjacent band of the same piece
+///   (the branch curls back onto itself closer than its radius).
+///
+/// `first` is the first point to consider (earlier ones are inside something
+/// else). Also returns how many contours were skipped.
 pub fn select_contours(track: &Track, first: usize) -> (Vec<Vec<usize>>, u32) {
     let n = track.samples.len();
     let mut pieces = Vec::new();
@@ -164,54 +198,135 @@ pub fn select_contours(track: &Track, first: usize) -> (Vec<Vec<usize>>, u32) {
     loop {
         let mut kept = vec![start];
         let mut split_at = None;
-        // A point known to lie ahead of the last kept contour, so scanning on is
-        // worthwhile even though the path has turned back for now.
-        let mut ahead: Option<(usize, usize)> = None;
+        let mut bands = BandIndex::new(track);
         for k in start + 1..n {
             let j = kept[kept.len() - 1];
-            if track.disc(j).clears(&track.disc(k), track.margin(j, k)) {
+            if may_follow(track, j, k) {
+                if bands.reaches_back(track, j, k) {
+                    split_at = Some(k);
+                    break;
+                }
+                bands.insert(track, j, k);
                 kept.push(k);
                 continue;
             }
             skipped += 1;
-            if track.samples[k].tangent.dot(track.samples[j].tangent) >= 0.0 {
-                continue;
-            }
-            let known = matches!(ahead, Some((jj, w)) if jj == j && w > k);
-            if !known {
-                match point_ahead(track, j, k) {
-                    Some(w) => ahead = Some((j, w)),
-                    None => {
-                        split_at = Some(k);
-                        break;
-                    }
-                }
+            let reach =
+                4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
+            if track.arc[k] - track.arc[j] > reach {
+                split_at = Some(k);
+                break;
             }
         }
         let last = kept[kept.len() - 1];
         pieces.push(kept);
         match split_at {
             // Split only when the rest of the branch is worth a piece of its own.
-            Some(k)
-                if track.samples[n - 1].pos.distance(track.samples[last].pos)
-                    > track.samples[last].radius =>
-            {
-                start = k;
-            }
+            Some(k) if track.arc[n - 1] - track.arc[k] > track.samples[last].radius => start = k,
             _ => break,
         }
     }
     (pieces, skipped)
 }
 
-/// The first point after `k` that lies ahead of point `j`'s disc and moves
-/// forward, if any: a later contour there may still clear `j`.
-fn point_ahead(track: &Track, j: usize, k: usize) -> Option<usize> {
-    let dj = track.disc(j);
-    (k + 1..track.samples.len()).find(|&i| {
-        let s = &track.samples[i];
-        (s.pos - dj.center).dot(dj.normal) > dj.radius && s.tangent.dot(dj.normal) > 0.0
-    })
+/// The bands kept so far in a piece, as capsules in a uniform grid, to find a
+/// new band that runs into an earlier one.
+struct BandIndex {
+    cell: f64,
+    grid: std::collections::HashMap<[i64; 3], Vec<usize>>,
+    /// (from point, to point, radius) of each band.
+    capsules: Vec<(usize, usize, f64)>,
+}
+
+impl BandIndex {
+    fn new(track: &Track) -> BandIndex {
+        let rmax = track.radii.iter().copied().fold(0.0, f64::max);
+        BandIndex {
+            cell: (4.0 * rmax).max(4.0 * track.edge).max(1e-300),
+            grid: std::collections::HashMap::new(),
+            capsules: Vec::new(),
+        }
+    }
+
+    fn cells(&self, a: DVec3, b: DVec3, pad: f64) -> impl Iterator<Item = [i64; 3]> {
+        let lo = ((a.min(b) - DVec3::splat(pad)) / self.cell).floor();
+        let hi = ((a.max(b) + DVec3::splat(pad)) / self.cell).floor();
+        let (lo, hi) = (lo.as_i64vec3(), hi.as_i64vec3());
+        (lo.x..=hi.x).flat_map(move |x| {
+            (lo.y..=hi.y).flat_map(move |y| (lo.z..=hi.z).map(move |z| [x, y, z]))
+        })
+    }
+
+    fn insert(&mut self, track: &Track, j: usize, k: usize) {
+        let r = track.radii[j].max(track.radii[k]);
+        let id = self.capsules.len();
+        self.capsules.push((j, k, r));
+        let (a, b) = (track.samples[j].pos, track.samples[k].pos);
+        let cells: Vec<[i64; 3]> = self.cells(a, b, 0.0).collect();
+        for c in cells {
+            self.grid.entry(c).or_default().push(id);
+        }
+    }
+
+    /// Whether band (j, k) comes within reach of an earlier band whose end is
+    /// more than two radii sums of path behind `j`.
+    fn reaches_back(&self, track: &Track, j: usize, k: usize) -> bool {
+        let (a, b) = (track.samples[j].pos, track.samples[k].pos);
+        let r = track.radii[j].max(track.radii[k]);
+        let mut seen = std::collections::HashSet::new();
+        for c in self.cells(a, b, self.cell) {
+            let Some(ids) = self.grid.get(&c) else {
+                continue;
+            };
+            for &id in ids {
+                if !seen.insert(id) {
+                    continue;
+                }
+                let (p, q, rq) = self.capsules[id];
+                if track.arc[j] - track.arc[q] <= 2.0 * (r + rq) {
+                    continue; // a neighbour along the tube
+                }
+                let d = segment_distance(a, b, track.samples[p].pos, track.samples[q].pos);
+                if d < r + rq {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Distance between the segments (a, b) and (c, d).
+pub fn segment_distance(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    let (u, v, w) = (b - a, d - c, a - c);
+    let (aa, bb, cc, dd, ee) = (u.dot(u), u.dot(v), v.dot(v), u.dot(w), v.dot(w));
+    let den = aa * cc - bb * bb;
+    let (mut s, mut t);
+    if aa <= 1e-300 && cc <= 1e-300 {
+        return a.distance(c);
+    }
+    if aa <= 1e-300 {
+        s = 0.0;
+        t = (ee / cc).clamp(0.0, 1.0);
+    } else if cc <= 1e-300 {
+        t = 0.0;
+        s = (-dd / aa).clamp(0.0, 1.0);
+    } else {
+        s = if den > 1e-12 * aa * cc {
+            ((bb * ee - cc * dd) / den).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        t = (bb * s + ee) / cc;
+        if t < 0.0 {
+            t = 0.0;
+            s = (-dd / aa).clamp(0.0, 1.0);
+        } else if t > 1.0 {
+            t = 1.0;
+            s = ((bb - dd) / aa).clamp(0.0, 1.0);
+        }
+    }
+    (a + u * s).distance(c + v * t)
 }
 
 /// Places the contour of track point `i` into the surface, with first-vertex
@@ -244,21 +359,9 @@ pub fn place_ring(
     }
 }
 
-/// Connects ring `a` (behind) to ring `b` (in front) with the minimum
-/// included-angle rule, starting from their first vertices.
+/// Connects ring `a` (behind) to ring `b` (in front).
 pub fn connect(surface: &mut Surface, a: &Ring, b: &Ring) {
-    let ta = uniform_angles(a.m);
-    let tb = uniform_angles(b.m);
-    connect_loops(
-        surface,
-        &ring_loop(a),
-        &ta,
-        &ring_loop(b),
-        &tb,
-        a.center,
-        b.center,
-        b.normal,
-    );
+    connect_loops(surface, &ring_loop(a), &ring_loop(b), a.center, b.center);
 }
 
 /// The vertex indices of a ring in order.
@@ -266,53 +369,67 @@ pub fn ring_loop(r: &Ring) -> Vec<u32> {
     (0..r.m).map(|j| r.first + j).collect()
 }
 
-/// Angular positions of the vertices of an m-gon.
-pub fn uniform_angles(m: u32) -> Vec<f64> {
-    (0..m)
-        .map(|j| std::f64::consts::TAU * f64::from(j) / f64::from(m))
-        .collect()
-}
-
-/// Connects two vertex loops that run the same way round, `a` behind `b`.
+/// Connects two vertex loops that both wind once, counter-clockwise, about the
+/// axis from `ca` (centre of `a`, behind) to `cb` (centre of `b`, in front).
 ///
-/// `ta` and `tb` are the loops' angular positions about the common axis,
-/// increasing from 0 at the corresponding first vertices. The paper's rule
-/// chooses each triangle: `a` is projected on the plane through `ca` with normal
-/// `nb` (making the loops parallel) and the diagonal with the smaller angle to the
-/// axis `ca → cb` wins. Where that rule is ill-posed (nearly flat bands, where
-/// every diagonal is almost perpendicular to the axis) it could fold the band,
-/// so a choice may not let one loop overtake the other by more than half a step
-/// in angle; within that the paper's rule decides.
-pub fn connect_loops(
-    surface: &mut Surface,
-    a: &[u32],
-    ta: &[f64],
-    b: &[u32],
-    tb: &[f64],
-    ca: DVec3,
-    cb: DVec3,
-    nb: DVec3,
-) {
+/// This is the paper's contour connection with its criterion made robust. The
+/// paper projects C_i onto a plane parallel to C_{i+1}, starts from the first
+/// vertices and adds, step by step, the triangle whose new diagonal makes the
+/// smaller angle with P_iP_{i+1}. We project both loops along the axis P_iP_{i+1}
+/// itself and take the vertex that comes next in angle about the axis. For
+/// similar parallel contours the two rules pick the same triangles; at sharp
+/// turns (strongly tilted contours close together) the literal rule can let
+/// diagonals cross and fold the band, while the angular order cannot: along any
+/// segment that misses the axis the angle about it is monotonic, so each triangle
+/// occupies its own angular sector, and only triangles that share an edge meet.
+/// The start is `a`'s first vertex and the vertex of `b` nearest to it in angle
+/// (the corresponding first vertex, for push-forward contours).
+pub fn connect_loops(surface: &mut Surface, a: &[u32], b: &[u32], ca: DVec3, cb: DVec3) {
     let (ma, mb) = (a.len(), b.len());
-    let axis = cb - ca;
-    let axis_len = axis.length().max(1e-300);
-    let pa: Vec<DVec3> = a
-        .iter()
-        .map(|&k| {
-            let p = surface.pos[k as usize];
-            p - (p - ca).dot(nb) * nb
+    let d = (cb - ca).normalize_or_zero();
+    let d = if d == DVec3::ZERO { DVec3::Z } else { d };
+    let e1 = contour::any_perpendicular(d);
+    let e2 = d.cross(e1);
+    let angle_of = |k: u32, c: DVec3| {
+        let p = surface.pos[k as usize] - c;
+        p.dot(e2).atan2(p.dot(e1))
+    };
+    let tau = std::f64::consts::TAU;
+    // Unwrapped angles, increasing from the loop's start.
+    let unwrap = |raw: Vec<f64>, from: f64| -> Vec<f64> {
+        raw.iter()
+            .map(|&t| from + (t - from).rem_euclid(tau))
+            .collect()
+    };
+    let a_raw: Vec<f64> = a.iter().map(|&k| angle_of(k, ca)).collect();
+    let ta = unwrap(a_raw, angle_of(a[0], ca));
+    let b_raw: Vec<f64> = b.iter().map(|&k| angle_of(k, cb)).collect();
+    // Start of b: the vertex nearest in angle to a's first vertex.
+    let start_b = (0..mb)
+        .min_by(|&x, &y| {
+            let dx =
+                (b_raw[x] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI;
+            let dy =
+                (b_raw[y] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI;
+            dx.abs().total_cmp(&dy.abs())
         })
-        .collect();
-    let pb: Vec<DVec3> = b.iter().map(|&k| surface.pos[k as usize]).collect();
-    // cos of the angle between a diagonal and the axis; larger is straighter.
-    let straightness = |from: DVec3, to: DVec3| {
-        let d = to - from;
-        d.dot(axis) / (d.length() * axis_len).max(1e-300)
+        .unwrap_or(0);
+    let b0 = ta[0]
+        + ((b_raw[start_b] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI);
+    let rotated: Vec<f64> = (0..mb).map(|k| b_raw[(start_b + k) % mb]).collect();
+    let tb = unwrap(rotated, b0);
+    let monotone = |t: &[f64]| t.windows(2).all(|w| w[1] > w[0]);
+    // Rings always wind monotonically; for anything else fall back to even spacing.
+    let (ta, tb) = if monotone(&ta) && monotone(&tb) {
+        (ta, tb)
+    } else {
+        (
+            (0..ma).map(|k| tau * k as f64 / ma as f64).collect(),
+            (0..mb).map(|k| tau * k as f64 / mb as f64).collect(),
+        )
     };
-    let angle = |t: &[f64], k: usize| {
-        let n = t.len();
-        t[k % n] + std::f64::consts::TAU * (k / n) as f64
-    };
+    let next = |t: &[f64], k: usize| if k < t.len() { t[k] } else { t[0] + tau };
+    let bv = |j: usize| b[(start_b + j) % mb];
     let (mut i, mut j) = (0usize, 0usize);
     while i < ma || j < mb {
         let advance_b = if i == ma {
@@ -320,25 +437,13 @@ pub fn connect_loops(
         } else if j == mb {
             false
         } else {
-            let (na, nb_) = (angle(ta, i + 1), angle(tb, j + 1));
-            let (step_a, step_b) = (na - angle(ta, i), nb_ - angle(tb, j));
-            let b_allowed = nb_ <= na + 0.5 * step_a;
-            let a_allowed = na <= nb_ + 0.5 * step_b;
-            match (a_allowed, b_allowed) {
-                (true, false) => false,
-                (false, true) => true,
-                _ => {
-                    let via_b = straightness(pa[i % ma], pb[(j + 1) % mb]);
-                    let via_a = straightness(pa[(i + 1) % ma], pb[j % mb]);
-                    via_b > via_a || (via_b == via_a && nb_ < na)
-                }
-            }
+            next(&tb, j + 1) < next(&ta, i + 1)
         };
         if advance_b {
-            surface.triangle(a[i % ma], b[(j + 1) % mb], b[j % mb]);
+            surface.triangle(a[i % ma], bv(j + 1), bv(j));
             j += 1;
         } else {
-            surface.triangle(a[i % ma], a[(i + 1) % ma], b[j % mb]);
+            surface.triangle(a[i % ma], a[(i + 1) % ma], bv(j));
             i += 1;
         }
     }
@@ -356,7 +461,10 @@ pub fn cap(
     let t0 = surface.tris.len() as u32;
     let v0 = surface.pos.len() as u32;
     let dir = if forward { ring.normal } else { -ring.normal };
-    let r = ring.radius;
+    // The dome's meridian is a polygon of 4·(rings + 1) sides inscribed in a
+    // quarter circle; enlarge it like the contours (see `polygon_radius`) so the
+    // cap's area and volume errors stay balanced too.
+    let r = contour::polygon_radius(ring.radius, 4 * (rings + 1));
     let mut prev = *ring;
     for k in 1..=rings {
         let phi = std::f64::consts::FRAC_PI_2 * f64::from(k) / f64::from(rings + 1);
@@ -452,7 +560,7 @@ mod tests {
             s.vertex(p, 1);
         }
         connect(&mut s, &a, &b);
-        assert_eq!(s.tris.len(), 8 + 12);
+        assert_eq!(s.tris.len(), a.m as usize + 12);
     }
 
     #[test]
@@ -488,6 +596,45 @@ mod tests {
         cap(&mut s, &tube.rings[0], 0, false);
         cap(&mut s, tube.rings.last().unwrap(), 0, true);
         assert!(s.into_mesh(BuildStats::default()).check().is_valid());
+    }
+
+    #[test]
+    fn segment_distances() {
+        let d = segment_distance(
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, 1.0, 0.0),
+            DVec3::new(0.5, 2.0, 0.0),
+        );
+        assert!((d - 1.0).abs() < 1e-12);
+        let d = segment_distance(
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(3.0, 1.0, 0.0),
+        );
+        assert!((d - 2f64.sqrt()).abs() < 1e-12);
+        let d = segment_distance(
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, -1.0, 1.0),
+            DVec3::new(0.5, 1.0, 1.0),
+        );
+        assert!((d - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_loop_closing_on_itself_splits() {
+        // A full circle of radius 3 with a tube of radius 1: the end runs into the start.
+        let pts: Vec<DVec3> = (0..=40)
+            .map(|i| {
+                let t = f64::from(i) / 40.0 * std::f64::consts::TAU * 1.1;
+                DVec3::new(3.0 * t.cos(), 3.0 * t.sin(), 0.0)
+            })
+            .collect();
+        let track = Track::new(&pts, &vec![1.0; pts.len()], &Params::DEFAULT, None);
+        let (pieces, _) = select_contours(&track, 0);
+        assert!(pieces.len() >= 2, "{pieces:?}");
     }
 
     #[test]

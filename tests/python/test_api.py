@@ -35,7 +35,7 @@ def test_defaults_are_the_documented_ones() -> None:
     assert neuromesh_rs.DEFAULTS == {
         "angle_threshold": 10.0,
         "k1": 1,
-        "min_vertices": 8,
+        "min_vertices": 12,
         "max_vertices": 64,
         "cap_rings": 3,
         "resolution": 1.0,
