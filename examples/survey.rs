@@ -33,7 +33,6 @@ fn main() {
         let r = mesh.check();
         let comp = neuromesh::check::face_components(&view);
         let pairs = neuromesh::check::self_intersections(&view);
-        let depth = neuromesh::check::tree_depths(&m);
         let intra = pairs
             .iter()
             .filter(|p| comp[p[0] as usize] == comp[p[1] as usize])
