@@ -56,3 +56,5 @@ fn main() {
         );
     }
 }
+#[allow(dead_code)]
+fn bent() {}

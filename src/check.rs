@@ -231,10 +231,9 @@ impl Mesh {
 }
 
 impl MeshView<'_> {
-    /// The full report; with a morphology (and sample labels) self-intersections
-    /// are split into construction defects and skeleton overlaps. The caller
-    /// must have validated the view.
-    pub fn check(&self, morphology: Option<&Morphology>) -> MeshReport {
+    /// The report without the self-intersection search (which is most of the
+    /// cost): closedness, manifoldness, orientation, components, measures.
+    pub fn check_topology(&self) -> MeshReport {
         let mut r = MeshReport {
             vertices: self.vertices.len(),
             faces: self.faces.len(),
@@ -243,6 +242,14 @@ impl MeshView<'_> {
             ..MeshReport::default()
         };
         topology(self, &mut r);
+        r
+    }
+
+    /// The full report; with a morphology (and sample labels) self-intersections
+    /// are split into construction defects and skeleton overlaps. The caller
+    /// must have validated the view.
+    pub fn check(&self, morphology: Option<&Morphology>) -> MeshReport {
+        let mut r = self.check_topology();
         let pairs = self_intersections(self);
         r.self_intersections = pairs.len();
         r.intersecting_pairs = pairs.iter().take(MAX_LISTED_PAIRS).copied().collect();
@@ -462,37 +469,25 @@ pub fn self_intersections(mesh: &MeshView<'_>) -> Vec<[u32; 2]> {
         .collect();
     let boxes: Vec<Aabb> = tris.iter().map(|t| Aabb::of(t)).collect();
     let bvh = Bvh::new(boxes);
-    let per_face = |i: usize| -> Vec<[u32; 2]> {
-        let mut found = Vec::new();
-        let fi = mesh.faces[i];
-        if fi[0] == fi[1] || fi[1] == fi[2] || fi[0] == fi[2] {
-            return found;
-        }
-        bvh.for_each_overlap(bvh.item_box(i as u32), |j| {
-            if (j as usize) <= i {
-                return;
-            }
-            let fj = mesh.faces[j as usize];
-            if fj[0] == fj[1] || fj[1] == fj[2] || fj[0] == fj[2] {
-                return;
-            }
-            if pair_intersects(fi, fj, tris[i], tris[j as usize]) {
-                found.push([i as u32, j]);
-            }
-        });
-        found
-    };
-    let mut pairs: Vec<[u32; 2]> = crate::parallel::flat_map_range(mesh.faces.len(), per_face);
-    pairs.sort_unstable();
-    pairs
+    let degenerate = |f: [u32; 3]| f[0] == f[1] || f[1] == f[2] || f[0] == f[2];
+    bvh.overlapping_pairs(|i, j| {
+        let (fi, fj) = (mesh.faces[i as usize], mesh.faces[j as usize]);
+        !degenerate(fi) && !degenerate(fj) && pair_intersects(fi, fj, tris[i as usize], tris[j as usize])
+    })
 }
 
 fn pair_intersects(fa: [u32; 3], fb: [u32; 3], ta: [[f64; 3]; 3], tb: [[f64; 3]; 3]) -> bool {
-    let shared: Vec<(usize, usize)> = (0..3)
-        .flat_map(|i| (0..3).map(move |j| (i, j)))
-        .filter(|&(i, j)| fa[i] == fb[j])
-        .collect();
-    match shared.len() {
+    let mut shared = [(0usize, 0usize); 3];
+    let mut n = 0;
+    for i in 0..3 {
+        for j in 0..3 {
+            if fa[i] == fb[j] {
+                shared[n] = (i, j);
+                n += 1;
+            }
+        }
+    }
+    match n {
         0 => geom::triangles_intersect(ta, tb),
         1 => {
             let (i, j) = shared[0];

@@ -165,6 +165,11 @@ fn strictly_in_wedge(v: [f64; 2], a1: [f64; 2], a2: [f64; 2], p: [f64; 2]) -> bo
 pub fn triangles_intersect_sharing_vertex(a: [P3; 3], b: [P3; 3]) -> bool {
     let d1 = orient3d_sign(a[0], a[1], a[2], b[1]);
     let d2 = orient3d_sign(a[0], a[1], a[2], b[2]);
+    // All of b but the shared vertex strictly on one side of a's plane: they
+    // meet only there. This settles most neighbours in a mesh at once.
+    if d1 == d2 && d1 != 0 {
+        return false;
+    }
     if d1 == 0 && d2 == 0 {
         // Coplanar fans overlap exactly when their wedges at the shared vertex do.
         let axis = dominant_axis(cross(sub(a[1], a[0]), sub(a[2], a[0])));
@@ -203,6 +208,39 @@ pub fn triangles_fold_on_shared_edge(a: [P3; 3], b: [P3; 3]) -> bool {
     let axis = dominant_axis(cross(sub(a[1], a[0]), sub(a[2], a[0])));
     let (p, q) = (project2(a[0], axis), project2(a[1], axis));
     orient2d_sign(p, q, project2(a[2], axis)) == orient2d_sign(p, q, project2(b[2], axis))
+}
+
+/// Distance between the segments (a, b) and (c, d).
+pub fn segment_distance(a: glam::DVec3, b: glam::DVec3, c: glam::DVec3, d: glam::DVec3) -> f64 {
+    let (u, v, w) = (b - a, d - c, a - c);
+    let (aa, bb, cc, dd, ee) = (u.dot(u), u.dot(v), v.dot(v), u.dot(w), v.dot(w));
+    let den = aa * cc - bb * bb;
+    let (mut s, mut t);
+    if aa <= 1e-300 && cc <= 1e-300 {
+        return a.distance(c);
+    }
+    if aa <= 1e-300 {
+        s = 0.0;
+        t = (ee / cc).clamp(0.0, 1.0);
+    } else if cc <= 1e-300 {
+        t = 0.0;
+        s = (-dd / aa).clamp(0.0, 1.0);
+    } else {
+        s = if den > 1e-12 * aa * cc {
+            ((bb * ee - cc * dd) / den).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        t = (bb * s + ee) / cc;
+        if t < 0.0 {
+            t = 0.0;
+            s = (-dd / aa).clamp(0.0, 1.0);
+        } else if t > 1.0 {
+            t = 1.0;
+            s = ((bb - dd) / aa).clamp(0.0, 1.0);
+        }
+    }
+    (a + u * s).distance(c + v * t)
 }
 
 /// Möller–Trumbore: distance along `dir` (not normalised) to triangle `t`, if the

@@ -30,9 +30,11 @@ pub mod mesher;
 pub mod morphology;
 pub mod parallel;
 pub mod params;
+pub mod piece;
 pub mod spline;
 pub mod surface;
 pub mod swc;
+pub mod track;
 pub mod tube;
 
 pub use check::MeshReport;

@@ -12,7 +12,9 @@ use crate::mesh::{BuildStats, Mesh};
 use crate::morphology::Morphology;
 use crate::params::Params;
 use crate::surface::Surface;
-use crate::tube::{self, Track, Tube};
+use crate::piece::{self, Caps};
+use crate::track::Track;
+use crate::tube::Tube;
 
 /// Radii are never below this fraction of the largest coordinate, so the f32
 /// output keeps a contour's vertices distinct.
@@ -120,17 +122,12 @@ fn build_branch(g: &Geometry, b: &Branch, id: u32, params: &Params) -> (Surface,
     let points: Vec<DVec3> = b.samples.iter().map(|&s| g.pos[s as usize]).collect();
     let radii: Vec<f64> = b.samples.iter().map(|&s| g.radius[s as usize]).collect();
     let track = Track::new(&points, &radii, params, None);
-    let (pieces, skipped) = tube::select_contours(&track, 0);
     let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
-    let mut tubes = Vec::with_capacity(pieces.len());
-    for kept in &pieces {
-        let mut t = tube::build_piece(&mut surface, &track, kept, &b.samples, id);
-        let (tris, verts) = tube::cap(&mut surface, &t.rings[0], params.cap_rings, false);
-        t.start_cap = tris;
-        t.start_cap_vertices = verts;
-        let last = t.rings[t.rings.len() - 1];
-        t.end_cap = tube::cap(&mut surface, &last, params.cap_rings, true).0;
-        tubes.push(t);
-    }
+    let caps = Caps {
+        first_start: true,
+        later_starts: true,
+        rings: params.cap_rings,
+    };
+    let (tubes, skipped) = piece::build_pieces(&mut surface, &track, &b.samples, id, 0, caps);
     (surface, tubes, skipped)
 }

@@ -10,6 +10,15 @@ use glam::DVec3;
 
 use crate::mesh::{BuildStats, Mesh};
 
+/// A point in a surface's history to roll back to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Mark {
+    /// Number of vertices at the mark.
+    pub vertices: usize,
+    /// Number of triangles at the mark.
+    pub triangles: usize,
+}
+
 /// A growing triangle soup with labels; see the module docs.
 #[derive(Debug, Clone, Default)]
 pub struct Surface {
@@ -48,6 +57,22 @@ impl Surface {
         self.tris.push([a, b, c]);
         self.alive.push(true);
         (self.tris.len() - 1) as u32
+    }
+
+    /// The current size, to roll back to.
+    pub fn mark(&self) -> Mark {
+        Mark {
+            vertices: self.pos.len(),
+            triangles: self.tris.len(),
+        }
+    }
+
+    /// Forgets every vertex and triangle added after `mark`.
+    pub fn rollback(&mut self, mark: Mark) {
+        self.pos.truncate(mark.vertices);
+        self.label.truncate(mark.vertices);
+        self.tris.truncate(mark.triangles);
+        self.alive.truncate(mark.triangles);
     }
 
     /// Number of triangles ever added (removed ones included).
