@@ -21,14 +21,19 @@ const FILES: [&str; 4] = [
 ];
 
 fn path(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/real").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/real")
+        .join(name)
 }
 
 fn parse(c: &mut Criterion) {
     let mut g = c.benchmark_group("parse");
     for name in FILES {
         let bytes = std::fs::read(path(name)).expect("fixture exists");
-        let n = neuromesh::swc::SwcFile::parse(&bytes, name).expect("valid").samples.len();
+        let n = neuromesh::swc::SwcFile::parse(&bytes, name)
+            .expect("valid")
+            .samples
+            .len();
         g.throughput(Throughput::Elements(n as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &bytes, |b, bytes| {
             b.iter(|| {
@@ -45,7 +50,10 @@ fn tubes(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     for name in FILES {
         let m = Morphology::from_swc(path(name)).expect("valid");
-        let tris = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes").faces.len();
+        let tris = neuromesh::mesh_morphology(&m, &Params::default())
+            .expect("meshes")
+            .faces
+            .len();
         eprintln!("{name}: {} samples, {tris} triangles", m.len());
         g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &m, |b, m| {

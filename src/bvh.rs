@@ -284,7 +284,10 @@ impl Bvh {
     /// item. The top of the descent is split into independent tasks that run in
     /// parallel when the `parallel` feature is on; the result does not depend on
     /// the number of threads.
-    pub fn overlapping_pairs(&self, keep: impl Fn(u32, u32) -> bool + Sync + Send) -> Vec<[u32; 2]> {
+    pub fn overlapping_pairs(
+        &self,
+        keep: impl Fn(u32, u32) -> bool + Sync + Send,
+    ) -> Vec<[u32; 2]> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
@@ -339,7 +342,11 @@ impl Bvh {
             (false, leaf_b) => {
                 // Descend the inner node (the larger one when both are inner).
                 let volume = |n: &Node| {
-                    let e = [n.bounds.hi[0] - n.bounds.lo[0], n.bounds.hi[1] - n.bounds.lo[1], n.bounds.hi[2] - n.bounds.lo[2]];
+                    let e = [
+                        n.bounds.hi[0] - n.bounds.lo[0],
+                        n.bounds.hi[1] - n.bounds.lo[1],
+                        n.bounds.hi[2] - n.bounds.lo[2],
+                    ];
                     e[0] * e[1] * e[2]
                 };
                 if leaf_b || volume(na) >= volume(nb) {
@@ -357,7 +364,13 @@ impl Bvh {
         }
     }
 
-    fn leaf_pairs(&self, a: u32, b: u32, keep: &impl Fn(u32, u32) -> bool, out: &mut Vec<[u32; 2]>) {
+    fn leaf_pairs(
+        &self,
+        a: u32,
+        b: u32,
+        keep: &impl Fn(u32, u32) -> bool,
+        out: &mut Vec<[u32; 2]>,
+    ) {
         let na = &self.nodes[a as usize];
         let nb = &self.nodes[b as usize];
         let ia = &self.items[na.start as usize..(na.start + na.count) as usize];
@@ -366,7 +379,9 @@ impl Bvh {
             // Within one leaf, each unordered pair once.
             let from = if a == b { x + 1 } else { 0 };
             for &j in &ib[from..] {
-                if self.boxes[i as usize].overlaps(&self.boxes[j as usize]) && keep(i.min(j), i.max(j)) {
+                if self.boxes[i as usize].overlaps(&self.boxes[j as usize])
+                    && keep(i.min(j), i.max(j))
+                {
                     out.push([i.min(j), i.max(j)]);
                 }
             }
@@ -411,7 +426,10 @@ mod tests {
                 let f = f64::from(i);
                 let (x, y, z) = ((f * 7.3) % 50.0, (f * 3.1) % 20.0, (f * 1.7) % 9.0);
                 let s = 0.5 + (f * 0.37) % 3.0;
-                Aabb { lo: [x, y, z], hi: [x + s, y + s, z + s] }
+                Aabb {
+                    lo: [x, y, z],
+                    hi: [x + s, y + s, z + s],
+                }
             })
             .collect();
         let bvh = Bvh::new(boxes.clone());

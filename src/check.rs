@@ -472,7 +472,9 @@ pub fn self_intersections(mesh: &MeshView<'_>) -> Vec<[u32; 2]> {
     let degenerate = |f: [u32; 3]| f[0] == f[1] || f[1] == f[2] || f[0] == f[2];
     bvh.overlapping_pairs(|i, j| {
         let (fi, fj) = (mesh.faces[i as usize], mesh.faces[j as usize]);
-        !degenerate(fi) && !degenerate(fj) && pair_intersects(fi, fj, tris[i as usize], tris[j as usize])
+        !degenerate(fi)
+            && !degenerate(fj)
+            && pair_intersects(fi, fj, tris[i as usize], tris[j as usize])
     })
 }
 

@@ -11,8 +11,8 @@ use crate::error::Result;
 use crate::mesh::{BuildStats, Mesh};
 use crate::morphology::Morphology;
 use crate::params::Params;
-use crate::surface::Surface;
 use crate::piece::{self, Caps};
+use crate::surface::Surface;
 use crate::track::Track;
 use crate::tube::Tube;
 

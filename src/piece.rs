@@ -87,14 +87,22 @@ impl Part {
         };
         Part {
             end: (top, dir),
-            hull: [base, Disc { center: top, ..base }],
+            hull: [
+                base,
+                Disc {
+                    center: top,
+                    ..base
+                },
+            ],
             capsule: (ring.center, top, h),
             tris,
         }
     }
 
     fn in_front_of(&self, plane: (DVec3, DVec3)) -> bool {
-        self.hull.iter().all(|d| d.lowest_above(plane.0, plane.1) > 0.0)
+        self.hull
+            .iter()
+            .all(|d| d.lowest_above(plane.0, plane.1) > 0.0)
     }
 }
 
@@ -120,9 +128,15 @@ impl Guard {
 
     fn cells(&self, p: &Part) -> impl Iterator<Item = [i64; 3]> + use<> {
         let (a, b, r) = p.capsule;
-        let lo = ((a.min(b) - DVec3::splat(r)) / self.cell).floor().as_i64vec3();
-        let hi = ((a.max(b) + DVec3::splat(r)) / self.cell).floor().as_i64vec3();
-        (lo.x..=hi.x).flat_map(move |x| (lo.y..=hi.y).flat_map(move |y| (lo.z..=hi.z).map(move |z| [x, y, z])))
+        let lo = ((a.min(b) - DVec3::splat(r)) / self.cell)
+            .floor()
+            .as_i64vec3();
+        let hi = ((a.max(b) + DVec3::splat(r)) / self.cell)
+            .floor()
+            .as_i64vec3();
+        (lo.x..=hi.x).flat_map(move |x| {
+            (lo.y..=hi.y).flat_map(move |y| (lo.z..=hi.z).map(move |z| [x, y, z]))
+        })
     }
 
     fn add(&mut self, p: Part) -> u32 {
@@ -153,7 +167,9 @@ impl Guard {
         self.epoch += 1;
         let epoch = self.epoch;
         for c in self.cells(new) {
-            let Some(ids) = self.grid.get(&c) else { continue };
+            let Some(ids) = self.grid.get(&c) else {
+                continue;
+            };
             for &id in ids {
                 if self.seen[id as usize] == epoch || skip.contains(&id) {
                     continue;
@@ -215,7 +231,9 @@ pub fn build_pieces(
     let n = track.samples.len();
     let mut radii: Vec<f64> = track.radii.clone();
     radii.sort_by(f64::total_cmp);
-    let cell = (4.0 * radii[radii.len() / 2]).max(2.0 * track.edge).max(1e-300);
+    let cell = (4.0 * radii[radii.len() / 2])
+        .max(2.0 * track.edge)
+        .max(1e-300);
     let mut tubes = Vec::new();
     let mut skipped = 0u32;
     let mut start = first.min(n - 1);
@@ -226,12 +244,21 @@ pub fn build_pieces(
         let mut rings = vec![ring0];
         let mut bands = Vec::new();
         let mut part_ids: Vec<u32> = Vec::new();
-        let cap_start = if first_piece { caps.first_start } else { caps.later_starts };
+        let cap_start = if first_piece {
+            caps.first_start
+        } else {
+            caps.later_starts
+        };
         let (mut start_cap, mut start_cap_vertices) = (0..0, 0..0);
         let mut start_part = None;
         if cap_start {
             let (tris, verts) = tube::cap(surface, &ring0, caps.rings, false);
-            start_part = Some(guard.add(Part::cap(&ring0, false, cap_height(&ring0, caps.rings), tris.clone())));
+            start_part = Some(guard.add(Part::cap(
+                &ring0,
+                false,
+                cap_height(&ring0, caps.rings),
+                tris.clone(),
+            )));
             start_cap = tris;
             start_cap_vertices = verts;
         }
@@ -241,7 +268,8 @@ pub fn build_pieces(
             let j = last.resampled as usize;
             if !may_follow(track, j, k) {
                 skipped += 1;
-                let reach = 4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
+                let reach =
+                    4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
                 if track.arc[k] - track.arc[j] > reach {
                     split_at = Some(k);
                     break;
@@ -303,7 +331,12 @@ pub fn build_pieces(
         first_piece = false;
         match split_at {
             // Split only when the rest of the branch is worth a piece of its own.
-            Some(k) if track.arc[n - 1] - track.arc[k] > track.samples[last.resampled as usize].radius => start = k,
+            Some(k)
+                if track.arc[n - 1] - track.arc[k]
+                    > track.samples[last.resampled as usize].radius =>
+            {
+                start = k
+            }
             _ => break,
         }
     }
@@ -348,7 +381,9 @@ mod tests {
 
     #[test]
     fn straight_tube_is_one_piece() {
-        let pts: Vec<DVec3> = (0..5).map(|i| DVec3::new(f64::from(i) * 2.0, 0.0, 0.0)).collect();
+        let pts: Vec<DVec3> = (0..5)
+            .map(|i| DVec3::new(f64::from(i) * 2.0, 0.0, 0.0))
+            .collect();
         let (tubes, mesh) = build(&pts, &[1.0; 5]);
         assert_eq!(tubes.len(), 1);
         assert_pieces_sound(&mesh);
@@ -371,7 +406,9 @@ mod tests {
 
     #[test]
     fn hairpin_splits_into_pieces() {
-        let mut pts: Vec<DVec3> = (0..10).map(|i| DVec3::new(f64::from(i), 0.0, 0.0)).collect();
+        let mut pts: Vec<DVec3> = (0..10)
+            .map(|i| DVec3::new(f64::from(i), 0.0, 0.0))
+            .collect();
         pts.push(DVec3::new(9.5, 0.5, 0.0));
         pts.extend((0..10).map(|i| DVec3::new(9.0 - f64::from(i), 1.0, 0.0)));
         let (tubes, mesh) = build(&pts, &vec![1.0; pts.len()]);

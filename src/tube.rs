@@ -260,7 +260,9 @@ mod tests {
     use crate::params::Params;
 
     fn straight(n: usize, r: f64) -> Track {
-        let pts: Vec<DVec3> = (0..n).map(|i| DVec3::new(i as f64 * 2.0, 0.0, 0.0)).collect();
+        let pts: Vec<DVec3> = (0..n)
+            .map(|i| DVec3::new(i as f64 * 2.0, 0.0, 0.0))
+            .collect();
         Track::new(&pts, &vec![r; n], &Params::DEFAULT, None)
     }
 
@@ -291,7 +293,13 @@ mod tests {
             let track = straight(2, 1.0);
             let mut s = Surface::default();
             let a = place_ring(&mut s, &track, 0, track.frames[0], &[0, 1]);
-            let b = place_ring(&mut s, &track, track.samples.len() - 1, track.frames[0], &[0, 1]);
+            let b = place_ring(
+                &mut s,
+                &track,
+                track.samples.len() - 1,
+                track.frames[0],
+                &[0, 1],
+            );
             connect(&mut s, &a, &b);
             cap(&mut s, &a, rings, false);
             cap(&mut s, &b, rings, true);
@@ -302,7 +310,11 @@ mod tests {
             if rings == 3 {
                 // Cylinder of length 2 and radius 1 plus a sphere of radius 1.
                 let exact = std::f64::consts::PI * 2.0 + 4.0 / 3.0 * std::f64::consts::PI;
-                assert!((mesh.volume() / exact - 1.0).abs() < 0.02, "{}", mesh.volume());
+                assert!(
+                    (mesh.volume() / exact - 1.0).abs() < 0.02,
+                    "{}",
+                    mesh.volume()
+                );
             }
         }
     }

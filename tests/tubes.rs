@@ -36,7 +36,12 @@ fn assert_sound(mesh: &Mesh, what: &str) {
         .into_iter()
         .filter(|p| comp[p[0] as usize] == comp[p[1] as usize])
         .collect();
-    assert!(inside.is_empty(), "{what}: {} intersecting pairs inside a component, e.g. {:?}", inside.len(), &inside[..inside.len().min(5)]);
+    assert!(
+        inside.is_empty(),
+        "{what}: {} intersecting pairs inside a component, e.g. {:?}",
+        inside.len(),
+        &inside[..inside.len().min(5)]
+    );
 }
 
 fn rel(got: f64, want: f64) -> f64 {
@@ -54,7 +59,10 @@ fn straight_cylinder_within_one_percent() {
     let area = 2.0 * PI * 20.0 + 4.0 * PI;
     let volume = PI * 20.0 + 4.0 / 3.0 * PI;
     let (ea, ev) = (rel(mesh.area(), area), rel(mesh.volume(), volume));
-    assert!(ea.abs() < 0.01 && ev.abs() < 0.01, "area {ea:+.4}, volume {ev:+.4}");
+    assert!(
+        ea.abs() < 0.01 && ev.abs() < 0.01,
+        "area {ea:+.4}, volume {ev:+.4}"
+    );
 }
 
 /// The round cone from radius 2 to radius 1 over length 20: frustum tangent to
@@ -62,7 +70,10 @@ fn straight_cylinder_within_one_percent() {
 /// Measured at default resolution: area +0.75 %, volume −0.92 %.
 #[test]
 fn cone_within_one_percent() {
-    let m = path(&[[0.0; 3], [10.0, 0.0, 0.0], [20.0, 0.0, 0.0]], &[2.0, 1.5, 1.0]);
+    let m = path(
+        &[[0.0; 3], [10.0, 0.0, 0.0], [20.0, 0.0, 0.0]],
+        &[2.0, 1.5, 1.0],
+    );
     let mesh = mesh(&m);
     assert_sound(&mesh, "cone");
     let (r1, r2, l) = (2.0f64, 1.0f64, 20.0f64);
@@ -74,9 +85,14 @@ fn cone_within_one_percent() {
     let lateral = PI * (a1 + a2) * ((a1 - a2).powi(2) + len * len).sqrt();
     let caps = 2.0 * PI * r1 * (r1 + h1) + 2.0 * PI * r2 * (r2 - h2);
     let cap_volume = |r: f64, h: f64| PI * h * h * (3.0 * r - h) / 3.0;
-    let volume = PI * len / 3.0 * (a1 * a1 + a1 * a2 + a2 * a2) + cap_volume(r1, r1 + h1) + cap_volume(r2, r2 - h2);
+    let volume = PI * len / 3.0 * (a1 * a1 + a1 * a2 + a2 * a2)
+        + cap_volume(r1, r1 + h1)
+        + cap_volume(r2, r2 - h2);
     let (ea, ev) = (rel(mesh.area(), lateral + caps), rel(mesh.volume(), volume));
-    assert!(ea.abs() < 0.01 && ev.abs() < 0.01, "area {ea:+.4}, volume {ev:+.4}");
+    assert!(
+        ea.abs() < 0.01 && ev.abs() < 0.01,
+        "area {ea:+.4}, volume {ev:+.4}"
+    );
 }
 
 /// A quarter circle of radius 10 (a point every 3°) with a tube of radius 1:
@@ -98,19 +114,36 @@ fn bent_tube_within_one_percent() {
     let area = 2.0 * PI * 10.0 * theta + 4.0 * PI;
     let volume = PI * 10.0 * theta + 4.0 / 3.0 * PI;
     let (ea, ev) = (rel(mesh.area(), area), rel(mesh.volume(), volume));
-    assert!(ea.abs() < 0.01 && ev.abs() < 0.01, "area {ea:+.4}, volume {ev:+.4}");
+    assert!(
+        ea.abs() < 0.01 && ev.abs() < 0.01,
+        "area {ea:+.4}, volume {ev:+.4}"
+    );
 }
 
 #[test]
 fn vertex_labels_are_samples_of_the_branch() {
-    let m = path(&[[0.0; 3], [5.0, 0.0, 0.0], [10.0, 1.0, 0.0], [15.0, 3.0, 0.0]], &[1.0, 0.8, 0.6, 0.5]);
+    let m = path(
+        &[
+            [0.0; 3],
+            [5.0, 0.0, 0.0],
+            [10.0, 1.0, 0.0],
+            [15.0, 3.0, 0.0],
+        ],
+        &[1.0, 0.8, 0.6, 0.5],
+    );
     let mesh = mesh(&m);
     assert_eq!(mesh.vertex_sample.len(), mesh.vertices.len());
     for (v, &s) in mesh.vertices.iter().zip(&mesh.vertex_sample) {
         let p = m.positions()[s as usize];
-        let d = ((f64::from(v[0]) - p[0]).powi(2) + (f64::from(v[1]) - p[1]).powi(2) + (f64::from(v[2]) - p[2]).powi(2)).sqrt();
+        let d = ((f64::from(v[0]) - p[0]).powi(2)
+            + (f64::from(v[1]) - p[1]).powi(2)
+            + (f64::from(v[2]) - p[2]).powi(2))
+        .sqrt();
         // Within the sample's radius (plus polygon correction) and half a segment.
-        assert!(d <= 1.1 * m.radii()[s as usize] + 2.7, "vertex {v:?} far from its sample {s}");
+        assert!(
+            d <= 1.1 * m.radii()[s as usize] + 2.7,
+            "vertex {v:?} far from its sample {s}"
+        );
     }
 }
 
@@ -152,13 +185,19 @@ fn random_path() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
                 for c in &mut dir {
                     *c += 1.2 * (next() - 0.5);
                 }
-                let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt().max(1e-9);
+                let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2])
+                    .sqrt()
+                    .max(1e-9);
                 for c in &mut dir {
                     *c /= len;
                 }
             }
             let last = pts[pts.len() - 1];
-            pts.push([last[0] + step * dir[0], last[1] + step * dir[1], last[2] + step * dir[2]]);
+            pts.push([
+                last[0] + step * dir[0],
+                last[1] + step * dir[1],
+                last[2] + step * dir[2],
+            ]);
             // Radii from 0.01 to 10: three orders of magnitude.
             radii.push(0.01 * 1000f64.powf(next()));
         }
