@@ -1,6 +1,8 @@
-//! Meshes every SWC file in a folder and prints one line of checks per file.
+//! Meshes every SWC file in a folder and prints one line of checks per file:
+//! components against trees, junctions by method, and self-intersections split
+//! into construction defects and skeleton overlaps (developer tool).
 //!
-//! `cargo run --release --example survey -- tests/data/real` (developer tool).
+//! `cargo run --release --example survey -- [folder]` (default tests/data/real).
 
 use std::time::Instant;
 
@@ -15,9 +17,21 @@ fn main() {
         .collect();
     files.sort();
     println!(
-        "{:<55} {:>7} {:>9} {:>6} {:>5} {:>6} {:>6} {:>6} {:>8}",
-        "file", "samples", "tris", "ms", "comp", "open", "nonman", "inward", "x-intra"
+        "{:<52} {:>6} {:>8} {:>7} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6}",
+        "file",
+        "samples",
+        "tris",
+        "ms",
+        "comp",
+        "trees",
+        "bad",
+        "paper",
+        "mov",
+        "det",
+        "constr",
+        "skel"
     );
+    let mut total = [0u64; 5];
     for f in files {
         let m = match neuromesh::Morphology::from_swc(&f) {
             Ok(m) => m,
@@ -29,25 +43,36 @@ fn main() {
         let t = Instant::now();
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        let view = mesh.view();
-        let r = mesh.check();
-        let comp = neuromesh::check::face_components(&view);
-        let pairs = neuromesh::check::self_intersections(&view);
-        let intra = pairs
-            .iter()
-            .filter(|p| comp[p[0] as usize] == comp[p[1] as usize])
-            .count();
+        let r = mesh.check_with(&m);
+        let bad = r.boundary_edges
+            + r.nonmanifold_edges
+            + r.nonmanifold_vertices
+            + r.misoriented_edges
+            + r.inward_components;
+        let s = &mesh.stats;
+        total[0] += u64::from(s.junctions_paper);
+        total[1] += u64::from(s.junctions_moved);
+        total[2] += u64::from(s.junctions_detached);
+        total[3] += r.construction_intersections.unwrap_or(0) as u64;
+        total[4] += r.skeleton_overlaps.unwrap_or(0) as u64;
         println!(
-            "{:<55} {:>7} {:>9} {:>6.1} {:>5} {:>6} {:>6} {:>6} {:>8}",
+            "{:<52} {:>6} {:>8} {:>7.1} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6}",
             f.file_name().unwrap().to_string_lossy(),
             m.len(),
             mesh.faces.len(),
             ms,
             r.components,
-            r.boundary_edges,
-            r.nonmanifold_edges + r.nonmanifold_vertices,
-            r.inward_components + r.misoriented_edges,
-            intra
+            m.trees().len(),
+            bad,
+            s.junctions_paper,
+            s.junctions_moved,
+            s.junctions_detached,
+            r.construction_intersections.unwrap_or(0),
+            r.skeleton_overlaps.unwrap_or(0),
         );
     }
+    println!(
+        "total junctions: {} paper, {} moved, {} detached; intersections: {} construction, {} skeleton",
+        total[0], total[1], total[2], total[3], total[4]
+    );
 }

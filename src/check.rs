@@ -478,7 +478,14 @@ pub fn self_intersections(mesh: &MeshView<'_>) -> Vec<[u32; 2]> {
     })
 }
 
-fn pair_intersects(fa: [u32; 3], fb: [u32; 3], ta: [[f64; 3]; 3], tb: [[f64; 3]; 3]) -> bool {
+/// Whether faces `fa` and `fb` (vertex indices, positions `ta`, `tb`) intersect,
+/// allowing what neighbours legitimately share.
+pub(crate) fn pair_intersects(
+    fa: [u32; 3],
+    fb: [u32; 3],
+    ta: [[f64; 3]; 3],
+    tb: [[f64; 3]; 3],
+) -> bool {
     let mut shared = [(0usize, 0usize); 3];
     let mut n = 0;
     for i in 0..3 {

@@ -6,12 +6,13 @@
 
 use glam::DVec3;
 
-use crate::branch::{self, Branch};
+use crate::branch::{self, Attachment, Branch};
 use crate::error::Result;
 use crate::mesh::{BuildStats, Mesh};
 use crate::morphology::Morphology;
 use crate::params::Params;
 use crate::piece::{self, Caps};
+use crate::splice::{Join, Method, Splicer};
 use crate::surface::Surface;
 use crate::track::Track;
 use crate::tube::Tube;
@@ -59,23 +60,55 @@ pub fn build(
     let m = morphology.scaled(params.scale)?;
     let geometry = Geometry::new(&m, params);
     let branches = branch::identify(&m, params.angle_threshold);
-    let jobs: Vec<(u32, &Branch)> = branches
-        .iter()
-        .enumerate()
-        .map(|(i, b)| (i as u32, b))
-        .collect();
-    let built: Vec<(Surface, Vec<Tube>, u32)> =
-        crate::parallel::map(&jobs, |&(id, b)| build_branch(&geometry, b, id, params));
-    let mut surface = Surface::with_capacity(built.iter().map(|(s, _, _)| s.pos.len()).sum());
-    let mut tubes: Vec<Tube> = Vec::new();
     let mut stats = BuildStats {
         branches: branches.len() as u32,
         ..BuildStats::default()
     };
+    // 1. Resample and frame every branch.
+    let tracks: Vec<Track> = crate::parallel::map(&branches, |b| {
+        let points: Vec<DVec3> = b
+            .samples
+            .iter()
+            .map(|&s| geometry.pos[s as usize])
+            .collect();
+        let radii: Vec<f64> = b
+            .samples
+            .iter()
+            .map(|&s| geometry.radius[s as usize])
+            .collect();
+        Track::new(&points, &radii, params, None)
+    });
+    // 2. Where each branch's tube starts: secondaries at their first contour
+    //    clear of the primary (None: hidden inside it).
+    let starts = first_contours(&branches, &tracks);
+    // 3. Tubes, in parallel, appended in branch order.
+    let jobs: Vec<u32> = (0..branches.len() as u32)
+        .filter(|&i| starts[i as usize].is_some())
+        .collect();
+    stats.branches_hidden = (branches.len() - jobs.len()) as u32;
+    let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(&jobs, |&id| {
+        let b = &branches[id as usize];
+        let track = &tracks[id as usize];
+        let secondary = matches!(b.attachment, Attachment::Secondary { .. });
+        let caps = Caps {
+            first_start: !secondary,
+            later_starts: false,
+            rings: params.cap_rings,
+        };
+        let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
+        let anchor = geometry.pos[b.samples[0] as usize];
+        let start = starts[id as usize].unwrap_or(0);
+        let (tubes, skipped) =
+            piece::build_pieces(&mut surface, track, &b.samples, id, start, anchor, caps);
+        (surface, tubes, skipped)
+    });
+    let mut surface = Surface::with_capacity(built.iter().map(|(s, _, _)| s.pos.len()).sum());
+    let mut tubes: Vec<Tube> = Vec::new();
+    let mut joins: Vec<Join> = Vec::new();
     for (local, local_tubes, skipped) in built {
         let (v0, t0) = surface.append(&local);
         stats.contours_skipped += skipped;
-        for mut t in local_tubes {
+        for (piece_index, mut t) in local_tubes.into_iter().enumerate() {
             for r in &mut t.rings {
                 r.first += v0;
             }
@@ -85,10 +118,103 @@ pub fn build(
             t.start_cap = t.start_cap.start + t0..t.start_cap.end + t0;
             t.end_cap = t.end_cap.start + t0..t.end_cap.end + t0;
             t.start_cap_vertices = t.start_cap_vertices.start + v0..t.start_cap_vertices.end + v0;
+            t.tris = t.tris.start + t0..t.tris.end + t0;
+            let secondary = matches!(
+                branches[t.branch as usize].attachment,
+                Attachment::Secondary { .. }
+            );
+            if piece_index > 0 || secondary {
+                joins.push(Join {
+                    tube: tubes.len() as u32,
+                    toward: t.anchor,
+                });
+            }
             tubes.push(t);
         }
     }
+    // 4. Splice every open start onto what it grows out of, in build order.
+    let mut splicer = Splicer::new(&mut surface, &tubes, params.cap_rings);
+    let debug_topology = std::env::var_os("NEUROMESH_DEBUG_TOPOLOGY").is_some();
+    for (ji, join) in joins.iter().enumerate() {
+        let method = splicer.join(&tubes, join);
+        if debug_topology {
+            let snapshot = splicer.surface_snapshot();
+            let r = snapshot.check_topology_only();
+            if r.1 > 0 || (ji + 1 == joins.len() && r.0 > 0) {
+                eprintln!(
+                    "join {ji} (tube {}, branch {}, {method:?}) broke topology: {} boundary, {} nonmanifold edges",
+                    join.tube, tubes[join.tube as usize].branch, r.0, r.1
+                );
+                let mut uses: std::collections::HashMap<(u32, u32), Vec<usize>> =
+                    std::collections::HashMap::new();
+                for (ti, (f, alive)) in snapshot.tris.iter().zip(&snapshot.alive).enumerate() {
+                    if *alive {
+                        for e in 0..3 {
+                            let (a, b) = (f[e], f[(e + 1) % 3]);
+                            uses.entry((a.min(b), a.max(b))).or_default().push(ti);
+                        }
+                    }
+                }
+                for (e, ts) in uses.iter().filter(|(_, v)| v.len() != 2).take(8) {
+                    eprintln!(
+                        "  edge {e:?}: {:?}",
+                        ts.iter()
+                            .map(|&t| (t, snapshot.tris[t]))
+                            .collect::<Vec<_>>()
+                    );
+                }
+                for (i, t) in tubes.iter().enumerate() {
+                    if t.tris.contains(&107000) || t.tris.end > 53000 && t.tris.start < 54000 {
+                        eprintln!("  tube {i} tris {:?}", t.tris);
+                    }
+                }
+                break;
+            }
+        }
+        match method {
+            Method::Paper => stats.junctions_paper += 1,
+            Method::Moved => stats.junctions_moved += 1,
+            Method::Detached => stats.junctions_detached += 1,
+        }
+    }
+    if std::env::var_os("NEUROMESH_DEBUG_SPLICE").is_some() {
+        eprintln!("splice failures: {:?}", splicer.failures);
+    }
     Ok((surface, branches, tubes, stats))
+}
+
+/// For every branch, the track point its tube starts at: 0 for root and soma
+/// branches; for a secondary, its first contour clear of its primary's round
+/// cones near the branch point (and of the grandparent's, when the primary is
+/// hidden itself); `None` when no contour of the branch is clear.
+fn first_contours(branches: &[Branch], tracks: &[Track]) -> Vec<Option<usize>> {
+    let mut starts: Vec<Option<usize>> = vec![Some(0); branches.len()];
+    for (i, b) in branches.iter().enumerate() {
+        let Attachment::Secondary { .. } = b.attachment else {
+            continue;
+        };
+        let mut cones = Vec::new();
+        let reach = 8.0
+            * (tracks[i].radii[0] + tracks[i].radii.iter().take(8).copied().fold(0.0, f64::max));
+        // Walk up while the hosts are hidden, collecting their cones too.
+        let mut child = i;
+        while let Attachment::Secondary { parent, at } = branches[child].attachment {
+            let p = parent as usize;
+            let tp = &tracks[p];
+            let ip = tp.originals[at as usize];
+            let rp = tp.radii[ip];
+            let w = reach + 8.0 * rp;
+            let lo = tp.at_arc(tp.arc[ip] - w).saturating_sub(1);
+            let hi = tp.at_arc(tp.arc[ip] + w);
+            cones.extend(crate::splice::cones(tp, lo, hi));
+            if starts[p].is_some() {
+                break;
+            }
+            child = p;
+        }
+        starts[i] = crate::splice::first_outside(&tracks[i], &cones);
+    }
+    starts
 }
 
 /// Positions and effective radii of the samples, ready for geometry.
@@ -116,18 +242,4 @@ impl Geometry {
         let radius = m.radii().iter().map(|&r| r.max(floor)).collect();
         Geometry { pos, radius }
     }
-}
-
-fn build_branch(g: &Geometry, b: &Branch, id: u32, params: &Params) -> (Surface, Vec<Tube>, u32) {
-    let points: Vec<DVec3> = b.samples.iter().map(|&s| g.pos[s as usize]).collect();
-    let radii: Vec<f64> = b.samples.iter().map(|&s| g.radius[s as usize]).collect();
-    let track = Track::new(&points, &radii, params, None);
-    let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
-    let caps = Caps {
-        first_start: true,
-        later_starts: true,
-        rings: params.cap_rings,
-    };
-    let (tubes, skipped) = piece::build_pieces(&mut surface, &track, &b.samples, id, 0, caps);
-    (surface, tubes, skipped)
 }

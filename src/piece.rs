@@ -220,12 +220,18 @@ pub struct Caps {
 /// Builds the tube of one branch into `surface`, starting at track point
 /// `first`, as one or more pieces. Returns the pieces and the number of
 /// skipped contours.
+///
+/// `anchor` is the point the first piece grows out of (its branch point, for a
+/// secondary); a later piece's anchor is where it split off. A later piece that
+/// will be spliced (`caps.later_starts == false`) starts at its first contour
+/// clear of the previous piece's volume.
 pub fn build_pieces(
     surface: &mut Surface,
     track: &Track,
     labels: &[u32],
     branch: u32,
     first: usize,
+    anchor: DVec3,
     caps: Caps,
 ) -> (Vec<Tube>, u32) {
     let n = track.samples.len();
@@ -238,7 +244,9 @@ pub fn build_pieces(
     let mut skipped = 0u32;
     let mut start = first.min(n - 1);
     let mut first_piece = true;
+    let mut anchor = anchor;
     loop {
+        let piece_first_tri = surface.tris.len() as u32;
         let mut guard = Guard::new(cell);
         let ring0 = tube::place_ring(surface, track, start, track.frames[start], labels);
         let mut rings = vec![ring0];
@@ -320,24 +328,42 @@ pub fn build_pieces(
         };
         bands.push(end_cap.start);
         let last = rings[rings.len() - 1];
+        let piece_start = rings[0].resampled as usize;
         tubes.push(Tube {
             branch,
             rings,
             bands,
             start_cap,
-            end_cap,
+            end_cap: end_cap.clone(),
             start_cap_vertices,
+            tris: piece_first_tri..end_cap.end,
+            anchor,
         });
         first_piece = false;
-        match split_at {
+        let next = match split_at {
             // Split only when the rest of the branch is worth a piece of its own.
             Some(k)
                 if track.arc[n - 1] - track.arc[k]
                     > track.samples[last.resampled as usize].radius =>
             {
-                start = k
+                k
             }
             _ => break,
+        };
+        // The next piece aims its splice at where this one ends.
+        anchor = last.center;
+        if caps.later_starts {
+            start = next;
+        } else {
+            // Spliced later: begin where the contours clear this piece's volume
+            // (its round cones and end cap).
+            let mut volume = crate::splice::cones(track, piece_start, last.resampled as usize);
+            let h = cap_height(&last, caps.rings);
+            volume.push((last.center, last.center, h, h));
+            match crate::splice::first_outside_from(track, next, &volume) {
+                Some(k) => start = k,
+                None => break,
+            }
         }
     }
     (tubes, skipped)
@@ -364,7 +390,7 @@ mod tests {
         let track = Track::new(pts, radii, &Params::DEFAULT, None);
         let mut s = Surface::default();
         let labels: Vec<u32> = (0..pts.len() as u32).collect();
-        let (tubes, _) = build_pieces(&mut s, &track, &labels, 0, 0, CAPS);
+        let (tubes, _) = build_pieces(&mut s, &track, &labels, 0, 0, pts[0], CAPS);
         (tubes, s.into_mesh(BuildStats::default()))
     }
 

@@ -28,6 +28,9 @@ pub struct Track {
     pub edge: f64,
     /// Arc length along the resampled curve at each point.
     pub arc: Vec<f64>,
+    /// For each of the branch's original points, its resampled point (a
+    /// merged near-duplicate maps to the point it was merged into).
+    pub originals: Vec<usize>,
 }
 
 impl Track {
@@ -64,6 +67,18 @@ impl Track {
             }
             arc.push(acc);
         }
+        let mut originals = vec![0usize; points.len()];
+        for (i, s) in samples.iter().enumerate() {
+            if s.original {
+                originals[s.source as usize] = i;
+            }
+        }
+        // Points merged into their predecessor take its resampled index.
+        for k in 1..originals.len() {
+            if originals[k] < originals[k - 1] {
+                originals[k] = originals[k - 1];
+            }
+        }
         Track {
             samples,
             frames,
@@ -71,6 +86,7 @@ impl Track {
             radii,
             edge,
             arc,
+            originals,
         }
     }
 
@@ -81,6 +97,13 @@ impl Track {
             normal: self.samples[i].tangent,
             radius: self.radii[i],
         }
+    }
+
+    /// Index of the point at arc length `s` or just after it.
+    pub fn at_arc(&self, s: f64) -> usize {
+        self.arc
+            .partition_point(|&a| a < s)
+            .min(self.samples.len() - 1)
     }
 
     /// Clearance margin between consecutive kept contours.

@@ -83,6 +83,11 @@ pub struct Tube {
     pub end_cap: std::ops::Range<u32>,
     /// Vertices of the start cap (rings and apex), empty if open.
     pub start_cap_vertices: std::ops::Range<u32>,
+    /// All its triangles (caps and bands), contiguous in the surface.
+    pub tris: std::ops::Range<u32>,
+    /// The point it grows out of: the branch point of a secondary, the end of
+    /// the previous piece for a later piece (splicing aims its ray there).
+    pub anchor: DVec3,
 }
 
 /// Places the contour of track point `i` into the surface, with first-vertex
@@ -141,51 +146,80 @@ pub fn ring_loop(r: &Ring) -> Vec<u32> {
 /// The start is `a`'s first vertex and the vertex of `b` nearest to it in angle
 /// (the corresponding first vertex, for push-forward contours).
 pub fn connect_loops(surface: &mut Surface, a: &[u32], b: &[u32], ca: DVec3, cb: DVec3) {
-    let (ma, mb) = (a.len(), b.len());
     let d = (cb - ca).normalize_or_zero();
     let d = if d == DVec3::ZERO { DVec3::Z } else { d };
+    connect_loops_about(surface, a, b, ca, cb, d);
+}
+
+/// [`connect_loops`] with the axis direction given: angles of `a` are measured
+/// about the line through `ca`, those of `b` about the parallel line through
+/// `cb`. Used where the two loops share a centre (a region's rim and a contour
+/// lying over it).
+pub fn connect_loops_about(
+    surface: &mut Surface,
+    a: &[u32],
+    b: &[u32],
+    ca: DVec3,
+    cb: DVec3,
+    d: DVec3,
+) {
+    let tau = std::f64::consts::TAU;
+    let pi = std::f64::consts::PI;
     let e1 = contour::any_perpendicular(d);
     let e2 = d.cross(e1);
     let angle_of = |k: u32, c: DVec3| {
         let p = surface.pos[k as usize] - c;
         p.dot(e2).atan2(p.dot(e1))
     };
-    let tau = std::f64::consts::TAU;
-    // Unwrapped angles, increasing from the loop's start.
-    let unwrap = |raw: Vec<f64>, from: f64| -> Vec<f64> {
-        raw.iter()
-            .map(|&t| from + (t - from).rem_euclid(tau))
-            .collect()
-    };
     let a_raw: Vec<f64> = a.iter().map(|&k| angle_of(k, ca)).collect();
-    let ta = unwrap(a_raw, angle_of(a[0], ca));
     let b_raw: Vec<f64> = b.iter().map(|&k| angle_of(k, cb)).collect();
     // Start of b: the vertex nearest in angle to a's first vertex.
-    let start_b = (0..mb)
-        .min_by(|&x, &y| {
-            let dx =
-                (b_raw[x] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI;
-            let dy =
-                (b_raw[y] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI;
-            dx.abs().total_cmp(&dy.abs())
-        })
+    let near = |t: f64| (t - a_raw[0] + pi).rem_euclid(tau) - pi;
+    let start_b = (0..b.len())
+        .min_by(|&x, &y| near(b_raw[x]).abs().total_cmp(&near(b_raw[y]).abs()))
         .unwrap_or(0);
-    let b0 = ta[0]
-        + ((b_raw[start_b] - ta[0] + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI);
-    let rotated: Vec<f64> = (0..mb).map(|k| b_raw[(start_b + k) % mb]).collect();
-    let tb = unwrap(rotated, b0);
-    let monotone = |t: &[f64]| t.windows(2).all(|w| w[1] > w[0]);
-    // Rings always wind monotonically; for anything else fall back to even spacing.
-    let (ta, tb) = if monotone(&ta) && monotone(&tb) {
-        (ta, tb)
-    } else {
-        (
-            (0..ma).map(|k| tau * k as f64 / ma as f64).collect(),
-            (0..mb).map(|k| tau * k as f64 / mb as f64).collect(),
-        )
-    };
+    let b: Vec<u32> = (0..b.len()).map(|k| b[(start_b + k) % b.len()]).collect();
+    let b_raw: Vec<f64> = (0..b.len())
+        .map(|k| b_raw[(start_b + k) % b.len()])
+        .collect();
+    let ta = loop_parameter(surface, a, &a_raw, a_raw[0]);
+    let tb = loop_parameter(surface, &b, &b_raw, a_raw[0] + near(b_raw[0]));
+    merge_loops(surface, a, &ta, &b, &tb);
+}
+
+/// Parameters for a loop's vertices, increasing from `start` over one turn:
+/// their angles when those increase monotonically (always, for a contour),
+/// otherwise the fraction of the loop's length (a region's jagged rim).
+fn loop_parameter(surface: &Surface, lp: &[u32], raw: &[f64], start: f64) -> Vec<f64> {
+    let tau = std::f64::consts::TAU;
+    let unwrapped: Vec<f64> = raw
+        .iter()
+        .map(|&t| start + (t - start).rem_euclid(tau))
+        .collect();
+    if unwrapped.windows(2).all(|w| w[1] > w[0]) {
+        return unwrapped;
+    }
+    let n = lp.len();
+    let step =
+        |i: usize| surface.pos[lp[i] as usize].distance(surface.pos[lp[(i + 1) % n] as usize]);
+    let total: f64 = (0..n).map(step).sum::<f64>().max(1e-300);
+    let mut acc = 0.0;
+    (0..n)
+        .map(|i| {
+            let t = start + tau * acc / total;
+            acc += step(i);
+            t
+        })
+        .collect()
+}
+
+/// Joins two loops whose vertices carry increasing parameters over one turn
+/// (`ta[0]` and `tb[0]` the corresponding starts): each step advances on the
+/// loop whose next vertex comes first, so the m + n triangles form a band.
+fn merge_loops(surface: &mut Surface, a: &[u32], ta: &[f64], b: &[u32], tb: &[f64]) {
+    let tau = std::f64::consts::TAU;
+    let (ma, mb) = (a.len(), b.len());
     let next = |t: &[f64], k: usize| if k < t.len() { t[k] } else { t[0] + tau };
-    let bv = |j: usize| b[(start_b + j) % mb];
     let (mut i, mut j) = (0usize, 0usize);
     while i < ma || j < mb {
         let advance_b = if i == ma {
@@ -193,13 +227,13 @@ pub fn connect_loops(surface: &mut Surface, a: &[u32], b: &[u32], ca: DVec3, cb:
         } else if j == mb {
             false
         } else {
-            next(&tb, j + 1) < next(&ta, i + 1)
+            next(tb, j + 1) < next(ta, i + 1)
         };
         if advance_b {
-            surface.triangle(a[i % ma], bv(j + 1), bv(j));
+            surface.triangle(a[i % ma], b[(j + 1) % mb], b[j % mb]);
             j += 1;
         } else {
-            surface.triangle(a[i % ma], a[(i + 1) % ma], bv(j));
+            surface.triangle(a[i % ma], a[(i + 1) % ma], b[j % mb]);
             i += 1;
         }
     }

@@ -1,0 +1,254 @@
+//! A dynamic spatial index over the triangles of a [`Surface`].
+//!
+//! Splicing edits the surface (it removes the region Q and adds a bridge) and
+//! keeps asking local questions: which triangle does this ray hit first, which
+//! triangles lie near this bridge. A static BVH would have to be rebuilt after
+//! every junction; a uniform grid fails when triangle sizes span three orders of
+//! magnitude (a 0.05 µm axon beside a 10 µm trunk). This is a *multi-level* grid:
+//! level L has cells of `base · 2^L`, and a triangle lives in the finest level
+//! whose cells are at least as large as its box, so it touches at most eight
+//! cells. A query visits each non-empty level, scanning either the cells under
+//! its box or, when that would be more, the level's entries. Removal is lazy:
+//! dead triangles stay in the cells and callers skip them.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::bvh::Aabb;
+use crate::surface::Surface;
+
+/// Triangles bucketed by position and size; see the module docs.
+#[derive(Debug, Clone)]
+pub struct TriangleGrid {
+    base: f64,
+    levels: Vec<HashMap<[i64; 3], Vec<u32>>>,
+    entries: Vec<usize>,
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+impl TriangleGrid {
+    /// An index over every triangle of `surface`, with the base cell from the
+    /// median triangle size.
+    pub fn new(surface: &Surface) -> TriangleGrid {
+        let mut sizes: Vec<f64> = (0..surface.tris.len())
+            .step_by(1 + surface.tris.len() / 4096)
+            .map(|t| extent(&tri_box(surface, t as u32)))
+            .collect();
+        sizes.sort_by(f64::total_cmp);
+        let base = sizes
+            .get(sizes.len() / 2)
+            .copied()
+            .unwrap_or(1.0)
+            .max(1e-300);
+        let mut g = TriangleGrid {
+            base,
+            levels: Vec::new(),
+            entries: Vec::new(),
+            stamp: Vec::new(),
+            epoch: 0,
+        };
+        for t in 0..surface.tris.len() as u32 {
+            if surface.alive[t as usize] {
+                g.insert(surface, t);
+            }
+        }
+        g
+    }
+
+    fn level_of(&self, b: &Aabb) -> usize {
+        let e = extent(b);
+        let mut level = 0;
+        let mut cell = self.base;
+        while cell < e && level < 60 {
+            cell *= 2.0;
+            level += 1;
+        }
+        level
+    }
+
+    fn cell_size(&self, level: usize) -> f64 {
+        self.base * (1u64 << level.min(62)) as f64
+    }
+
+    fn cell_range(&self, b: &Aabb, level: usize) -> ([i64; 3], [i64; 3]) {
+        let c = self.cell_size(level);
+        let lo = b.lo.map(|v| (v / c).floor() as i64);
+        let hi = b.hi.map(|v| (v / c).floor() as i64);
+        (lo, hi)
+    }
+
+    /// Adds triangle `t` of `surface`.
+    pub fn insert(&mut self, surface: &Surface, t: u32) {
+        let b = tri_box(surface, t);
+        let level = self.level_of(&b);
+        while self.levels.len() <= level {
+            self.levels.push(HashMap::new());
+            self.entries.push(0);
+        }
+        let (lo, hi) = self.cell_range(&b, level);
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    self.levels[level].entry([x, y, z]).or_default().push(t);
+                    self.entries[level] += 1;
+                }
+            }
+        }
+        if self.stamp.len() <= t as usize {
+            self.stamp.resize(t as usize + 1, 0);
+        }
+    }
+
+    /// Calls `f` once with every live triangle whose box overlaps `query`.
+    pub fn for_each_near(&mut self, surface: &Surface, query: &Aabb, mut f: impl FnMut(u32)) {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.epoch = 1;
+        }
+        let epoch = self.epoch;
+        let mut visit = |t: u32, stamp: &mut Vec<u32>| {
+            let slot = &mut stamp[t as usize];
+            if *slot == epoch || !surface.alive[t as usize] {
+                return;
+            }
+            *slot = epoch;
+            if tri_box(surface, t).overlaps(query) {
+                f(t);
+            }
+        };
+        for level in 0..self.levels.len() {
+            if self.entries[level] == 0 {
+                continue;
+            }
+            let (lo, hi) = self.cell_range(query, level);
+            let cells = (0..3)
+                .map(|a| (hi[a] - lo[a] + 1).max(0) as u128)
+                .product::<u128>();
+            let map = &self.levels[level];
+            if cells > map.len() as u128 {
+                for (key, ts) in map {
+                    if (0..3).all(|a| lo[a] <= key[a] && key[a] <= hi[a]) {
+                        for &t in ts {
+                            visit(t, &mut self.stamp);
+                        }
+                    }
+                }
+            } else {
+                for x in lo[0]..=hi[0] {
+                    for y in lo[1]..=hi[1] {
+                        for z in lo[2]..=hi[2] {
+                            if let Some(ts) = map.get(&[x, y, z]) {
+                                for &t in ts {
+                                    visit(t, &mut self.stamp);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The first live triangle hit by the ray `origin + s·dir`, 0 ≤ s ≤ `max`,
+    /// among those `accept` allows: `(triangle, s)`.
+    pub fn raycast(
+        &mut self,
+        surface: &Surface,
+        origin: DVec3,
+        dir: DVec3,
+        max: f64,
+        accept: impl Fn(u32) -> bool,
+    ) -> Option<(u32, f64)> {
+        let end = origin + dir * max;
+        let query = Aabb {
+            lo: origin.min(end).to_array(),
+            hi: origin.max(end).to_array(),
+        };
+        let mut best: Option<(u32, f64)> = None;
+        self.for_each_near(surface, &query, |t| {
+            if !accept(t) {
+                return;
+            }
+            let tri = surface.tris[t as usize].map(|k| surface.pos[k as usize].to_array());
+            if let Some(s) = crate::geom::ray_triangle(origin.to_array(), dir.to_array(), tri)
+                && s <= max
+                && best.is_none_or(|(_, b)| s < b)
+            {
+                best = Some((t, s));
+            }
+        });
+        best
+    }
+}
+
+/// Box of triangle `t`.
+pub fn tri_box(surface: &Surface, t: u32) -> Aabb {
+    let f = surface.tris[t as usize];
+    Aabb::of(&f.map(|k| surface.pos[k as usize].to_array()))
+}
+
+fn extent(b: &Aabb) -> f64 {
+    (0..3).map(|a| b.hi[a] - b.lo[a]).fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn soup() -> Surface {
+        // Triangles of sizes 0.01 to 100 along the x axis.
+        let mut s = Surface::default();
+        for i in 0..40 {
+            let size = 0.01 * 1.3f64.powi(i);
+            let x = f64::from(i) * 3.0;
+            let a = s.vertex(DVec3::new(x, 0.0, 0.0), 0);
+            let b = s.vertex(DVec3::new(x + size, 0.0, 0.0), 0);
+            let c = s.vertex(DVec3::new(x, size, 0.0), 0);
+            s.triangle(a, b, c);
+        }
+        s
+    }
+
+    #[test]
+    fn near_finds_what_brute_force_finds() {
+        let s = soup();
+        let mut g = TriangleGrid::new(&s);
+        for (lo, hi) in [
+            ([-1.0, -1.0, -1.0], [5.0, 1.0, 1.0]),
+            ([50.0, 0.0, -1.0], [70.0, 80.0, 1.0]),
+        ] {
+            let q = Aabb { lo, hi };
+            let mut got = Vec::new();
+            g.for_each_near(&s, &q, |t| got.push(t));
+            got.sort_unstable();
+            let want: Vec<u32> = (0..s.tris.len() as u32)
+                .filter(|&t| tri_box(&s, t).overlaps(&q))
+                .collect();
+            assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn dead_triangles_are_skipped_and_rays_hit_the_nearest() {
+        let mut s = Surface::default();
+        for z in [1.0, 2.0] {
+            let a = s.vertex(DVec3::new(-1.0, -1.0, z), 0);
+            let b = s.vertex(DVec3::new(1.0, -1.0, z), 0);
+            let c = s.vertex(DVec3::new(0.0, 1.0, z), 0);
+            s.triangle(a, b, c);
+        }
+        let mut g = TriangleGrid::new(&s);
+        let hit = g.raycast(&s, DVec3::ZERO, DVec3::Z, 10.0, |_| true);
+        assert_eq!(hit.map(|h| h.0), Some(0));
+        s.alive[0] = false;
+        let hit = g.raycast(&s, DVec3::ZERO, DVec3::Z, 10.0, |_| true);
+        assert_eq!(hit.map(|h| h.0), Some(1));
+        assert!(
+            g.raycast(&s, DVec3::ZERO, DVec3::Z, 1.5, |_| true)
+                .is_none()
+        );
+    }
+}

@@ -1,0 +1,840 @@
+//! Mesh splicing at branch points (paper §3.2, "Mesh Splicing", Figs. 5–6).
+//!
+//! A secondary branch's tube starts open at its first contour C_1sec (the
+//! contours that touch the primary's volume were never built, see
+//! [`first_outside`]). Splicing joins that open end to the surface it grows out
+//! of:
+//!
+//! 1. **Target.** A ray from C_1sec's centre towards the branch point; the
+//!    nearest live triangle it hits (any part already built, usually the
+//!    primary) is the target, and the hit point `h` the centre of the splice.
+//! 2. **Region Q.** Triangles grown from the target across shared edges while
+//!    their centres lie within the secondary's footprint (distance to the
+//!    bridge axis at most its radius) and they face the secondary. Q must be a
+//!    topological disk: one simple boundary loop C_Q and Euler characteristic 1.
+//! 3. **Bridge.** C_loc, a contour in the target's plane centred at `h`, then
+//!    N_mids middle contours from C_loc to C_1sec (N_mids = minimum vertex
+//!    distance between C_loc and C_1sec divided by the mean edge of C_Q, as the
+//!    paper has it), their vertices made from C_1sec's by projection. C_Q,
+//!    the middle contours and C_1sec are joined by the contour connection of
+//!    [`crate::tube::connect_loops`].
+//! 4. **Proof.** The bridge is kept only if its contours clear each other and
+//!    none of its triangles meets another triangle of the surface (exact
+//!    predicates, neighbours handled as in [`crate::check`]). Then Q is removed
+//!    and the bridge stays.
+//!
+//! Where the paper's construction cannot give a valid junction (Q is not a
+//! disk, the bridge would cross a neighbour, the ray is blocked), alternatives
+//! are tried in order, and the result is counted by method:
+//!
+//! * *moved*: the same construction from the secondary's second or third
+//!   contour (its first bands are dropped), and with a narrower or wider Q;
+//! * *detached*: the secondary keeps a cap at its start and stays a separate
+//!   closed component (overlapping its primary); reported so it is never hidden.
+//!
+//! Deviations from the paper, and why: C_loc is centred at the ray's hit point
+//! rather than at the target's barycentre (a thin branch on a coarse primary
+//! would otherwise land up to an edge length off its axis); the middle contours'
+//! normals turn smoothly from the target's normal to C_1sec's, which keeps
+//! consecutive middle contours from crossing.
+
+use glam::DVec3;
+
+use crate::bvh::Aabb;
+use crate::contour::DiscFrame;
+use crate::grid::{TriangleGrid, tri_box};
+use crate::surface::Surface;
+use crate::track::Track;
+use crate::tube::{self, Tube};
+
+/// A tube to attach to the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Join {
+    /// Index of the tube in the tube list; its start is open.
+    pub tube: u32,
+    /// The point the ray aims at: the branch point (or where a piece split off).
+    pub toward: DVec3,
+}
+
+/// How a junction was built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// The paper's splice, first try.
+    Paper,
+    /// The paper's splice from a later contour or with another Q size.
+    Moved,
+    /// No valid junction: the secondary is capped and left separate.
+    Detached,
+}
+
+/// State shared by the junctions of one mesh.
+pub struct Splicer<'a> {
+    surface: &'a mut Surface,
+    grid: TriangleGrid,
+    /// Tube of each triangle (u32::MAX for bridges).
+    owner: Vec<u32>,
+    /// Triangles no Q may take: bridges and the first band of every secondary.
+    locked: Vec<bool>,
+    cap_rings: u32,
+    /// Why attempts failed, for diagnostics.
+    pub failures: std::collections::BTreeMap<&'static str, u32>,
+}
+
+impl<'a> Splicer<'a> {
+    /// Prepares to splice into `surface`, whose triangles belong to `tubes`.
+    pub fn new(surface: &'a mut Surface, tubes: &[Tube], cap_rings: u32) -> Splicer<'a> {
+        let mut owner = vec![u32::MAX; surface.tris.len()];
+        for (i, t) in tubes.iter().enumerate() {
+            for k in t.tris.clone() {
+                owner[k as usize] = i as u32;
+            }
+        }
+        let grid = TriangleGrid::new(surface);
+        // The first band of a tube with an open start borders a hole that its own
+        // junction will fill; no other junction's Q may take it.
+        let mut locked = vec![false; surface.tris.len()];
+        for t in tubes {
+            if t.start_cap.is_empty() && t.bands.len() > 1 {
+                for k in t.bands[0]..t.bands[1] {
+                    locked[k as usize] = true;
+                }
+            }
+        }
+        Splicer {
+            surface,
+            grid,
+            owner,
+            locked,
+            cap_rings,
+            failures: std::collections::BTreeMap::new(),
+        }
+    }
+
+    /// Joins `tube`'s open start to the surface, trying the alternatives in
+    /// order; always leaves the surface closed.
+    pub fn join(&mut self, tubes: &[Tube], join: &Join) -> Method {
+        let tube = &tubes[join.tube as usize];
+        for (i, a) in attempts(tube).into_iter().enumerate() {
+            if self.try_bridge(join.tube, tube, a, join.toward) {
+                return if i == 0 { Method::Paper } else { Method::Moved };
+            }
+        }
+        // Detached: close the tube's start with a cap.
+        let first = self.surface.tris.len() as u32;
+        tube::cap(self.surface, &tube.rings[0], self.cap_rings, false);
+        self.adopt(first, join.tube, false);
+        Method::Detached
+    }
+
+    /// Debugging: a copy of the current surface.
+    pub fn surface_snapshot(&self) -> Surface {
+        self.surface.clone()
+    }
+
+    /// Registers triangles from `first` to the end of the surface.
+    fn adopt(&mut self, first: u32, owner: u32, lock: bool) {
+        let n = self.surface.tris.len();
+        self.owner.resize(n, owner);
+        self.locked.resize(n, lock);
+        for t in first..n as u32 {
+            self.owner[t as usize] = owner;
+            self.locked[t as usize] = lock;
+            self.grid.insert(self.surface, t);
+        }
+    }
+
+    /// One attempt: the bridge from ring `k` of `tube` with Q's footprint
+    /// `rho_factor` times the ring's radius. Commits and returns true if valid.
+    fn try_bridge(&mut self, tube_id: u32, tube: &Tube, a: Attempt, toward: DVec3) -> bool {
+        let k = a.ring;
+        // Bands before ring k (the "moved" variants) leave with the attempt;
+        // only those still alive are taken, so a failure restores exactly them.
+        let dropped: Vec<u32> = if k > 0 {
+            (tube.bands[0]..tube.bands[k])
+                .filter(|&t| self.surface.alive[t as usize])
+                .collect()
+        } else {
+            Vec::new()
+        };
+        for &t in &dropped {
+            self.surface.alive[t as usize] = false;
+        }
+        let result = self.bridge(tube_id, tube, a, toward, &dropped);
+        if let Err(why) = result {
+            *self.failures.entry(why).or_insert(0) += 1;
+        }
+        let ok = result.is_ok();
+        if !ok {
+            for &t in &dropped {
+                self.surface.alive[t as usize] = true;
+            }
+        }
+        ok
+    }
+
+    fn bridge(
+        &mut self,
+        tube_id: u32,
+        tube: &Tube,
+        a: Attempt,
+        toward: DVec3,
+        dropped: &[u32],
+    ) -> Result<(), &'static str> {
+        let k = a.ring;
+        let c1 = tube.rings[k];
+        // 1. Target.
+        let mut dir = toward - c1.center;
+        let len = dir.length();
+        if len <= 1e-9 * c1.radius || !a.aim_at_branch_point {
+            dir = -c1.normal;
+        } else {
+            dir /= len;
+        }
+        let reach = len.max(c1.radius) * 2.0 + 4.0 * c1.radius;
+        let owner = &self.owner;
+        let Some((target, s)) = self.grid.raycast(self.surface, c1.center, dir, reach, |t| {
+            owner[t as usize] != tube_id
+        }) else {
+            if std::env::var_os("NEUROMESH_DEBUG_RAY").is_some() {
+                eprintln!(
+                    "miss: c1 {:?} r {} toward {:?} len {} normal {:?} dir {:?}",
+                    c1.center, c1.radius, toward, len, c1.normal, dir
+                );
+            }
+            return Err("ray hits nothing");
+        };
+        if self.locked[target as usize] {
+            return Err("ray hits a junction");
+        }
+        let h = c1.center + dir * s;
+        let n_t = tri_normal(self.surface, target);
+        let axis = (c1.center - h).normalize_or_zero();
+        if n_t.dot(c1.center - h) <= 0.0 || axis == DVec3::ZERO {
+            return Err("target faces away");
+        }
+        if c1.normal.dot(n_t) < 0.2 {
+            return Err("secondary too oblique to the target");
+        }
+        // 2. Region Q.
+        let rho = c1.radius * a.footprint;
+        let Some(q) = self.grow_region(tube_id, target, h, axis, rho) else {
+            return Err("Q reaches a locked triangle");
+        };
+        let Some(c_q) = boundary_loop(self.surface, &q) else {
+            return Err("Q is not a disk");
+        };
+        // The plane of the splice: Q's mean normal, facing the secondary.
+        let n_q = q
+            .iter()
+            .map(|&t| {
+                let f = self.surface.tris[t as usize];
+                let (a, b, c) = (
+                    self.surface.pos[f[0] as usize],
+                    self.surface.pos[f[1] as usize],
+                    self.surface.pos[f[2] as usize],
+                );
+                (b - a).cross(c - a)
+            })
+            .sum::<DVec3>()
+            .normalize_or_zero();
+        if n_q.dot(c1.center - h) <= 0.0 || c1.normal.dot(n_q) < 0.2 {
+            return Err("Q faces away from the secondary");
+        }
+        let e1 = crate::contour::any_perpendicular(n_q);
+        let e2 = n_q.cross(e1);
+        let flat = |p: DVec3| [(p - h).dot(e1), (p - h).dot(e2)];
+        let rim: Vec<[f64; 2]> = c_q
+            .iter()
+            .map(|&v| flat(self.surface.pos[v as usize]))
+            .collect();
+        if !crate::planar::inside_polygon([0.0, 0.0], &rim) {
+            return Err("Q does not surround the hit point");
+        }
+        // Distance from the hit point to the rim's edges, in projection.
+        let inradius = (0..rim.len())
+            .map(|i| point_segment_2d([0.0, 0.0], rim[i], rim[(i + 1) % rim.len()]))
+            .fold(f64::INFINITY, f64::min);
+        let e_ave = {
+            let n = c_q.len();
+            (0..n)
+                .map(|i| {
+                    self.surface.pos[c_q[i] as usize]
+                        .distance(self.surface.pos[c_q[(i + 1) % n] as usize])
+                })
+                .sum::<f64>()
+                / n as f64
+        };
+        // 3. Bridge contours. C_loc sits just above the rim (the skirt below it is
+        // a height field over the plane), strictly inside the rim's projection.
+        let lift = c_q
+            .iter()
+            .map(|&v| (self.surface.pos[v as usize] - h).dot(n_q))
+            .fold(0.0, f64::max);
+        let loc_center = h + n_q * (lift + 0.1 * e_ave.min(c1.radius));
+        let r_loc = c1.radius.min(0.8 * inradius);
+        let offsets: Vec<DVec3> = (0..c1.m)
+            .map(|j| self.surface.pos[c1.vertex(j) as usize] - c1.center)
+            .collect();
+        let contour_at = |center: DVec3, normal: DVec3, radius: f64| -> Option<Vec<DVec3>> {
+            offsets
+                .iter()
+                .map(|w| {
+                    let p = *w - w.dot(normal) * normal;
+                    let l = p.length();
+                    (l > 1e-12 * radius).then(|| center + p * (radius / l))
+                })
+                .collect()
+        };
+        // The paper's C_loc lies in the target's plane; the tilted variant turns
+        // it half-way towards C_1sec, for secondaries that leave obliquely.
+        let n_loc = if a.tilted {
+            (n_q + c1.normal).normalize_or_zero()
+        } else {
+            n_q
+        };
+        let Some(loc) = contour_at(loc_center, n_loc, r_loc) else {
+            return Err("degenerate C_loc");
+        };
+        let loc_flat: Vec<[f64; 2]> = loc.iter().map(|&p| flat(p)).collect();
+        let Some(skirt) = crate::planar::triangulate_annulus(&rim, &loc_flat) else {
+            return Err("skirt cannot be triangulated");
+        };
+        let d_min = loc
+            .iter()
+            .flat_map(|a| offsets.iter().map(move |w| a.distance(c1.center + *w)))
+            .fold(f64::INFINITY, f64::min);
+        let n_mids = (d_min / e_ave.max(1e-300)).floor().clamp(0.0, 64.0) as usize;
+        let mut frames: Vec<DiscFrame> = vec![DiscFrame {
+            center: loc_center,
+            normal: n_loc,
+            radius: r_loc,
+        }];
+        let mut contours: Vec<Vec<DVec3>> = vec![loc];
+        for t in 1..n_mids {
+            let f = t as f64 / n_mids as f64;
+            let center = loc_center.lerp(c1.center, f);
+            let normal = n_loc.lerp(c1.normal, f).normalize_or_zero();
+            let radius = r_loc + (c1.radius - r_loc) * f;
+            let Some(c) = contour_at(center, normal, radius) else {
+                return Err("degenerate middle contour");
+            };
+            frames.push(DiscFrame {
+                center,
+                normal,
+                radius,
+            });
+            contours.push(c);
+        }
+        frames.push(c1.disc());
+        if frames.windows(2).any(|w| !w[0].clears(&w[1], 0.0)) {
+            return Err("middle contours cross");
+        }
+        // Build the bridge tentatively.
+        let mark = self.surface.mark();
+        for &t in &q {
+            self.surface.alive[t as usize] = false;
+        }
+        let primary_label = self.surface.label[self.surface.tris[target as usize][0] as usize];
+        let mut loops: Vec<Vec<u32>> = Vec::with_capacity(contours.len() + 1);
+        for (i, c) in contours.iter().enumerate() {
+            let label = if i == 0 { primary_label } else { c1.label };
+            loops.push(c.iter().map(|&p| self.surface.vertex(p, label)).collect());
+        }
+        loops.push(tube::ring_loop(&c1));
+        let first_tri = self.surface.tris.len() as u32;
+        let skirt_vertex = |i: usize| {
+            if i < c_q.len() {
+                c_q[i]
+            } else {
+                loops[0][i - c_q.len()]
+            }
+        };
+        for t in &skirt {
+            let v = t.map(skirt_vertex);
+            self.surface.triangle(v[0], v[1], v[2]);
+        }
+        for (i, w) in loops.windows(2).enumerate() {
+            tube::connect_loops(
+                self.surface,
+                &w[0],
+                &w[1],
+                frames[i].center,
+                frames[i + 1].center,
+            );
+        }
+        // 4. Proof.
+        let removed: Vec<u32> = q.iter().chain(dropped).copied().collect();
+        if let Err(why) = self.bridge_is_clear(first_tri, &removed) {
+            debug_dump(self.surface, &mut self.grid, first_tri, &q, why);
+            self.surface.rollback(mark);
+            for &t in &q {
+                self.surface.alive[t as usize] = true;
+            }
+            return Err(why);
+        }
+        self.adopt(first_tri, u32::MAX, true);
+        // The secondary's first band is part of the junction now.
+        if k + 1 < tube.bands.len() {
+            for t in tube.bands[k]..tube.bands[k + 1] {
+                self.locked[t as usize] = true;
+            }
+        }
+        Ok(())
+    }
+
+    /// Grows Q from `target`; `None` if it cannot be a disk of live, unlocked,
+    /// foreign triangles.
+    fn grow_region(
+        &mut self,
+        tube_id: u32,
+        target: u32,
+        h: DVec3,
+        axis: DVec3,
+        rho: f64,
+    ) -> Option<Vec<u32>> {
+        let pad = 2.0 * rho;
+        let ext = extent(&tri_box(self.surface, target));
+        let query = Aabb::of(&[h.to_array()]).inflated(pad + 2.0 * ext);
+        let mut near: Vec<u32> = Vec::new();
+        self.grid
+            .for_each_near(self.surface, &query, |t| near.push(t));
+        // Local edge → triangles map.
+        let mut edges: std::collections::HashMap<(u32, u32), [u32; 2]> =
+            std::collections::HashMap::new();
+        for &t in &near {
+            let f = self.surface.tris[t as usize];
+            for e in 0..3 {
+                let (a, b) = (f[e], f[(e + 1) % 3]);
+                let key = (a.min(b), a.max(b));
+                let slot = edges.entry(key).or_insert([u32::MAX; 2]);
+                if slot[0] == u32::MAX {
+                    slot[0] = t;
+                } else {
+                    slot[1] = t;
+                }
+            }
+        }
+        let inside = |t: u32, s: &Surface| -> bool {
+            let f = s.tris[t as usize];
+            let c = (s.pos[f[0] as usize] + s.pos[f[1] as usize] + s.pos[f[2] as usize]) / 3.0;
+            let d = c - h;
+            let perp = (d - d.dot(axis) * axis).length();
+            perp <= rho && tri_normal(s, t).dot(axis) > 0.1
+        };
+        let mut q = vec![target];
+        let mut in_q = std::collections::HashSet::from([target]);
+        let mut head = 0;
+        while head < q.len() {
+            let t = q[head];
+            head += 1;
+            let f = self.surface.tris[t as usize];
+            for e in 0..3 {
+                let (a, b) = (f[e], f[(e + 1) % 3]);
+                let Some(pair) = edges.get(&(a.min(b), a.max(b))) else {
+                    continue;
+                };
+                for &n in pair {
+                    if n == u32::MAX || in_q.contains(&n) {
+                        continue;
+                    }
+                    if self.locked[n as usize] || self.owner[n as usize] == tube_id {
+                        continue;
+                    }
+                    if inside(n, self.surface) {
+                        in_q.insert(n);
+                        q.push(n);
+                    }
+                }
+            }
+        }
+        if q.iter().any(|&t| self.locked[t as usize]) {
+            return None;
+        }
+        Some(q)
+    }
+
+    /// Whether the triangles from `first` on meet no other live triangle
+    /// (except where they share vertices or edges properly), and every edge
+    /// they or the `removed` triangles had is now either gone or shared by
+    /// exactly two live triangles running it in opposite directions.
+    fn bridge_is_clear(&mut self, first: u32, removed: &[u32]) -> Result<(), &'static str> {
+        let n = self.surface.tris.len() as u32;
+        let mut b = Aabb::EMPTY;
+        for t in (first..n).chain(removed.iter().copied()) {
+            b.add(&tri_box(self.surface, t));
+        }
+        let mut near: Vec<u32> = Vec::new();
+        self.grid.for_each_near(self.surface, &b, |t| near.push(t));
+        near.extend(first..n);
+        // Topology: every edge of the bridge must end up in exactly two live
+        // triangles that run it in opposite directions.
+        let mut uses: std::collections::HashMap<(u32, u32), (u32, u32)> =
+            std::collections::HashMap::new();
+        for t in (first..n).chain(removed.iter().copied()) {
+            let f = self.surface.tris[t as usize];
+            for e in 0..3 {
+                let (a, c) = (f[e], f[(e + 1) % 3]);
+                uses.insert((a.min(c), a.max(c)), (0, 0));
+            }
+        }
+
+        for &t in &near {
+            if !self.surface.alive[t as usize] {
+                continue;
+            }
+            let f = self.surface.tris[t as usize];
+            for e in 0..3 {
+                let (a, c) = (f[e], f[(e + 1) % 3]);
+                if let Some(u) = uses.get_mut(&(a.min(c), a.max(c))) {
+                    if a < c {
+                        u.0 += 1;
+                    } else {
+                        u.1 += 1;
+                    }
+                }
+            }
+        }
+        if uses.values().any(|&u| u != (1, 1) && u != (0, 0)) {
+            return Err("bridge is not manifold with its surroundings");
+        }
+        let pos = |t: u32, s: &Surface| s.tris[t as usize].map(|k| s.pos[k as usize].to_array());
+        for t in first..n {
+            let (ft, pt) = (self.surface.tris[t as usize], pos(t, self.surface));
+            let bt = tri_box(self.surface, t);
+            for &o in &near {
+                if o == t || (o >= first && o < t) || !self.surface.alive[o as usize] {
+                    continue;
+                }
+                if !bt.overlaps(&tri_box(self.surface, o)) {
+                    continue;
+                }
+                if crate::check::pair_intersects(
+                    ft,
+                    self.surface.tris[o as usize],
+                    pt,
+                    pos(o, self.surface),
+                ) {
+                    BAD.with(|b| b.set((t, o)));
+                    return Err(if o >= first {
+                        "bridge crosses itself"
+                    } else {
+                        "bridge crosses the surface"
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One way to try a junction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Attempt {
+    /// Which ring of the secondary's tube serves as C_1sec (0 = its first).
+    ring: usize,
+    /// Aim the ray at the branch point (the paper) or straight back along the
+    /// secondary's axis.
+    aim_at_branch_point: bool,
+    /// Q's footprint radius over C_1sec's radius.
+    footprint: f64,
+    /// C_loc turned half-way towards C_1sec.
+    tilted: bool,
+}
+
+/// The attempts for a tube, the paper's construction first. Later C_1sec
+/// candidates go as far as three radii along the secondary.
+fn attempts(tube: &Tube) -> Vec<Attempt> {
+    let paper = Attempt {
+        ring: 0,
+        aim_at_branch_point: true,
+        footprint: 1.0,
+        tilted: false,
+    };
+    let mut out = vec![
+        paper,
+        Attempt {
+            footprint: 0.7,
+            ..paper
+        },
+        Attempt {
+            tilted: true,
+            ..paper
+        },
+        Attempt {
+            aim_at_branch_point: false,
+            ..paper
+        },
+        Attempt {
+            aim_at_branch_point: false,
+            tilted: true,
+            ..paper
+        },
+    ];
+    let r0 = tube.rings[0];
+    for k in 1..tube.rings.len().min(8) {
+        if tube.rings[k].center.distance(r0.center) > 3.0 * r0.radius.max(tube.rings[k].radius) {
+            break;
+        }
+        for tilted in [false, true] {
+            out.push(Attempt {
+                ring: k,
+                tilted,
+                ..paper
+            });
+        }
+        out.push(Attempt {
+            ring: k,
+            aim_at_branch_point: false,
+            tilted: true,
+            ..paper
+        });
+    }
+    out
+}
+
+/// Temporary: writes the neighbourhood of a failed bridge to /tmp for viewing.
+fn debug_dump(s: &Surface, grid: &mut TriangleGrid, first: u32, q: &[u32], why: &str) {
+    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let Some(limit) = std::env::var("NEUROMESH_DUMP")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    else {
+        return;
+    };
+    let k = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    if k >= limit {
+        return;
+    }
+    let n = s.tris.len() as u32;
+    let mut b = Aabb::EMPTY;
+    for t in first..n {
+        b.add(&tri_box(s, t));
+    }
+    let ext = extent(&b);
+    let mut near = Vec::new();
+    grid.for_each_near(s, &b.inflated(ext), |t| near.push(t));
+    let mut out = format!("# {why}\n");
+    let mut idx = std::collections::HashMap::new();
+    let mut vs = String::new();
+    let mut fs = String::new();
+    let (b1, b2) = BAD.with(|b| b.get());
+    out.push_str(&format!(
+        "# bad {} {} (bridge starts {first}, {} tris, q {})\n",
+        b1,
+        b2,
+        n - first,
+        q.len()
+    ));
+    for (group, tris) in [
+        ("surface", near.clone()),
+        ("q", q.to_vec()),
+        ("bridge", (first..n).collect::<Vec<_>>()),
+        ("bad", vec![b1, b2]),
+    ] {
+        fs.push_str(&format!("g {group}\n"));
+        for t in tris {
+            let f = s.tris[t as usize];
+            let mut ids = [0usize; 3];
+            for (i, &v) in f.iter().enumerate() {
+                let len = idx.len();
+                let id = *idx.entry(v).or_insert_with(|| {
+                    let p = s.pos[v as usize];
+                    vs.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+                    len + 1
+                });
+                ids[i] = id;
+            }
+            fs.push_str(&format!("f {} {} {}\n", ids[0], ids[1], ids[2]));
+        }
+    }
+    out.push_str(&vs);
+    out.push_str(&fs);
+    let _ = std::fs::write(format!("/tmp/join_{k}.obj"), out);
+}
+
+thread_local! { static BAD: std::cell::Cell<(u32, u32)> = const { std::cell::Cell::new((0, 0)) }; }
+
+fn extent(b: &Aabb) -> f64 {
+    (0..3).map(|a| b.hi[a] - b.lo[a]).fold(0.0, f64::max)
+}
+
+fn tri_normal(s: &Surface, t: u32) -> DVec3 {
+    let f = s.tris[t as usize];
+    let (a, b, c) = (
+        s.pos[f[0] as usize],
+        s.pos[f[1] as usize],
+        s.pos[f[2] as usize],
+    );
+    (b - a).cross(c - a).normalize_or_zero()
+}
+
+/// The boundary of a triangle set as one loop of vertices, following the
+/// triangles' own edge directions; `None` unless the set is a topological disk
+/// (a single simple boundary loop and Euler characteristic 1).
+pub fn boundary_loop(s: &Surface, q: &[u32]) -> Option<Vec<u32>> {
+    use std::collections::HashMap;
+    let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
+    for &t in q {
+        let f = s.tris[t as usize];
+        for e in 0..3 {
+            *directed.entry((f[e], f[(e + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    let mut edges_total = 0usize;
+    for (&(a, b), &count) in &directed {
+        if count > 1 {
+            return None; // two triangles run an edge the same way: not oriented
+        }
+        if directed.contains_key(&(b, a)) {
+            if a < b {
+                edges_total += 1;
+            }
+            continue;
+        }
+        edges_total += 1;
+        if next.insert(a, b).is_some() {
+            return None; // a vertex with two outgoing boundary edges: a pinch
+        }
+    }
+    let start = *next.keys().min()?;
+    let mut lp = vec![start];
+    let mut v = next[&start];
+    while v != start {
+        if lp.len() > next.len() {
+            return None;
+        }
+        lp.push(v);
+        v = *next.get(&v)?;
+    }
+    if lp.len() != next.len() {
+        return None; // several boundary loops: Q has a hole
+    }
+    let mut verts: Vec<u32> = q.iter().flat_map(|&t| s.tris[t as usize]).collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let euler = verts.len() as i64 - edges_total as i64 + q.len() as i64;
+    (euler == 1).then_some(lp)
+}
+
+fn point_segment_2d(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ((p[0] - a[0] - t * dx).powi(2) + (p[1] - a[1] - t * dy).powi(2)).sqrt()
+}
+
+/// The first track point of a secondary whose contour touches none of the
+/// given round cones (`(a, b, r_a, r_b)` segments of the primary near the branch
+/// point), with a margin of a tenth of the secondary's radius; `None` if every
+/// contour of the branch touches them (the branch is hidden inside).
+pub fn first_outside(track: &Track, cones: &[(DVec3, DVec3, f64, f64)]) -> Option<usize> {
+    first_outside_from(track, 0, cones)
+}
+
+/// [`first_outside`] starting the search at point `from`.
+pub fn first_outside_from(
+    track: &Track,
+    from: usize,
+    cones: &[(DVec3, DVec3, f64, f64)],
+) -> Option<usize> {
+    (from..track.samples.len()).find(|&i| {
+        let s = &track.samples[i];
+        let r = track.radii[i];
+        let margin = 0.1 * r;
+        let u = track.frames[i];
+        let v = s.tangent.cross(u);
+        let m = track.counts[i];
+        !cones.iter().any(|&(a, b, ra, rb)| {
+            // A contour vertex inside the cone.
+            let vertex_inside = (0..m).any(|j| {
+                let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
+                let p = s.pos + r * (th.cos() * u + th.sin() * v);
+                inside_cone(p, a, b, ra, rb, margin)
+            });
+            // Or the cone's axis crossing the disc.
+            vertex_inside || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
+        })
+    })
+}
+
+fn inside_cone(p: DVec3, a: DVec3, b: DVec3, ra: f64, rb: f64, margin: f64) -> bool {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let r = ra + (rb - ra) * t;
+    p.distance(a + ab * t) < r + margin
+}
+
+fn axis_crosses_disc(a: DVec3, b: DVec3, r_cone: f64, c: DVec3, n: DVec3, r: f64) -> bool {
+    let (da, db) = ((a - c).dot(n), (b - c).dot(n));
+    if da * db > 0.0 {
+        return false;
+    }
+    let t = if (da - db).abs() > 0.0 {
+        da / (da - db)
+    } else {
+        0.0
+    };
+    let x = a + (b - a) * t;
+    x.distance(c) < r + r_cone
+}
+
+/// The round cones of `track` between resampled points `from` and `to`.
+pub fn cones(track: &Track, from: usize, to: usize) -> Vec<(DVec3, DVec3, f64, f64)> {
+    let to = to.min(track.samples.len().saturating_sub(1));
+    if from >= to {
+        let i = from.min(track.samples.len() - 1);
+        let p = track.samples[i].pos;
+        return vec![(p, p, track.radii[i], track.radii[i])];
+    }
+    (from..to)
+        .map(|i| {
+            (
+                track.samples[i].pos,
+                track.samples[i + 1].pos,
+                track.radii[i],
+                track.radii[i + 1],
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn boundary_of_a_fan_is_its_rim() {
+        let mut s = Surface::default();
+        let c = s.vertex(DVec3::ZERO, 0);
+        let rim: Vec<u32> = (0..6)
+            .map(|i| {
+                let a = f64::from(i) * std::f64::consts::TAU / 6.0;
+                s.vertex(DVec3::new(a.cos(), a.sin(), 0.0), 0)
+            })
+            .collect();
+        let q: Vec<u32> = (0..6)
+            .map(|i| s.triangle(c, rim[i], rim[(i + 1) % 6]))
+            .collect();
+        let lp = boundary_loop(&s, &q).expect("a disk");
+        assert_eq!(lp.len(), 6);
+        // Two fans sharing nothing: not a disk.
+        let two = [q[0], q[3]];
+        assert!(boundary_loop(&s, &two).is_none());
+        // A ring (annulus) is not a disk either.
+        let annulus: Vec<u32> = q[..5].to_vec();
+        assert!(
+            boundary_loop(&s, &annulus).is_some(),
+            "five of six fan triangles are still a disk"
+        );
+    }
+}
