@@ -7,31 +7,54 @@
 //! magnitude (a 0.05 µm axon beside a 10 µm trunk). This is a *multi-level* grid:
 //! level L has cells of `base · 2^L`, and a triangle lives in the finest level
 //! whose cells are at least as large as its box, so it touches at most eight
-//! cells. A query visits each non-empty level, scanning either the cells under
-//! its box or, when that would be more, the level's entries. Removal is lazy:
-//! dead triangles stay in the cells and callers skip them.
-
-use std::collections::HashMap;
+//! cells. Each level also keeps an occupancy pyramid (which cells 8, 64 and 512
+//! times coarser hold anything), so a query over a large, mostly empty box
+//! descends only into occupied regions instead of probing every fine cell.
+//! Removal is lazy: dead triangles stay in the cells and callers skip them.
 
 use glam::DVec3;
 
 use crate::bvh::Aabb;
+use crate::hash::{FastMap, FastSet};
 use crate::surface::Surface;
+
+/// Coarsening steps of the occupancy pyramid (each 8× per axis).
+const PYRAMID: usize = 3;
+/// A query enumerates at most about this many cells at any one scale.
+const CELL_BUDGET: i64 = 512;
+
+/// One level of the grid: its cells and the occupancy of coarser cells.
+#[derive(Debug, Clone, Default)]
+struct Level {
+    cells: FastMap<[i64; 3], Vec<u32>>,
+    /// `occupied[s]` holds the cells of scale 8^(s+1) that contain any cell.
+    occupied: [FastSet<[i64; 3]>; PYRAMID],
+}
 
 /// Triangles bucketed by position and size; see the module docs.
 #[derive(Debug, Clone)]
 pub struct TriangleGrid {
     base: f64,
-    levels: Vec<HashMap<[i64; 3], Vec<u32>>>,
-    entries: Vec<usize>,
+    levels: Vec<Level>,
     stamp: Vec<u32>,
     epoch: u32,
+}
+
+fn coarser(key: [i64; 3], scale: usize) -> [i64; 3] {
+    let d = 1i64 << (3 * scale);
+    key.map(|k| k.div_euclid(d))
 }
 
 impl TriangleGrid {
     /// An index over every triangle of `surface`, with the base cell from the
     /// median triangle size.
     pub fn new(surface: &Surface) -> TriangleGrid {
+        Self::new_where(surface, |_| true)
+    }
+
+    /// An index over the live triangles of `surface` whose boxes `keep`
+    /// accepts (later insertions are not filtered).
+    pub fn new_where(surface: &Surface, keep: impl Fn(&Aabb) -> bool) -> TriangleGrid {
         let mut sizes: Vec<f64> = (0..surface.tris.len())
             .step_by(1 + surface.tris.len() / 4096)
             .map(|t| extent(&tri_box(surface, t as u32)))
@@ -45,14 +68,19 @@ impl TriangleGrid {
         let mut g = TriangleGrid {
             base,
             levels: Vec::new(),
-            entries: Vec::new(),
             stamp: Vec::new(),
             epoch: 0,
         };
+        g.stamp = vec![0; surface.tris.len()];
+        let mut kept = 0usize;
         for t in 0..surface.tris.len() as u32 {
-            if surface.alive[t as usize] {
+            if surface.alive[t as usize] && keep(&tri_box(surface, t)) {
                 g.insert(surface, t);
+                kept += 1;
             }
+        }
+        if std::env::var_os("NEUROMESH_DEBUG_SPLICE").is_some() {
+            eprintln!("grid: {kept} of {} triangles indexed", surface.tris.len());
         }
         g
     }
@@ -84,15 +112,21 @@ impl TriangleGrid {
         let b = tri_box(surface, t);
         let level = self.level_of(&b);
         while self.levels.len() <= level {
-            self.levels.push(HashMap::new());
-            self.entries.push(0);
+            self.levels.push(Level::default());
         }
         let (lo, hi) = self.cell_range(&b, level);
+        let lv = &mut self.levels[level];
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
-                    self.levels[level].entry([x, y, z]).or_default().push(t);
-                    self.entries[level] += 1;
+                    let key = [x, y, z];
+                    let cell = lv.cells.entry(key).or_default();
+                    if cell.is_empty() {
+                        for s in 0..PYRAMID {
+                            lv.occupied[s].insert(coarser(key, s + 1));
+                        }
+                    }
+                    cell.push(t);
                 }
             }
         }
@@ -119,33 +153,15 @@ impl TriangleGrid {
                 f(t);
             }
         };
+        let mut keys: Vec<[i64; 3]> = Vec::new();
         for level in 0..self.levels.len() {
-            if self.entries[level] == 0 {
-                continue;
-            }
             let (lo, hi) = self.cell_range(query, level);
-            let cells = (0..3)
-                .map(|a| (hi[a] - lo[a] + 1).max(0) as u128)
-                .product::<u128>();
-            let map = &self.levels[level];
-            if cells > map.len() as u128 {
-                for (key, ts) in map {
-                    if (0..3).all(|a| lo[a] <= key[a] && key[a] <= hi[a]) {
-                        for &t in ts {
-                            visit(t, &mut self.stamp);
-                        }
-                    }
-                }
-            } else {
-                for x in lo[0]..=hi[0] {
-                    for y in lo[1]..=hi[1] {
-                        for z in lo[2]..=hi[2] {
-                            if let Some(ts) = map.get(&[x, y, z]) {
-                                for &t in ts {
-                                    visit(t, &mut self.stamp);
-                                }
-                            }
-                        }
+            keys.clear();
+            occupied_cells(&self.levels[level], lo, hi, &mut keys);
+            for key in &keys {
+                if let Some(ts) = self.levels[level].cells.get(key) {
+                    for &t in ts {
+                        visit(t, &mut self.stamp);
                     }
                 }
             }
@@ -182,6 +198,66 @@ impl TriangleGrid {
         });
         best
     }
+}
+
+/// The occupied cells of `level` within the cell range `lo..=hi`, found by
+/// descending the occupancy pyramid from the finest scale whose cells under
+/// the range number at most [`CELL_BUDGET`].
+fn occupied_cells(level: &Level, lo: [i64; 3], hi: [i64; 3], out: &mut Vec<[i64; 3]>) {
+    let count = |lo: [i64; 3], hi: [i64; 3]| -> i64 {
+        (0..3)
+            .map(|a| (hi[a] - lo[a] + 1).max(0))
+            .fold(1i64, |acc, n| acc.saturating_mul(n))
+    };
+    let mut scale = 0;
+    while scale < PYRAMID && count(coarser(lo, scale), coarser(hi, scale)) > CELL_BUDGET {
+        scale += 1;
+    }
+    // Candidate cells at `scale`, then refined down to the fine cells.
+    let mut cands: Vec<[i64; 3]> = Vec::new();
+    let (clo, chi) = (coarser(lo, scale), coarser(hi, scale));
+    for x in clo[0]..=chi[0] {
+        for y in clo[1]..=chi[1] {
+            for z in clo[2]..=chi[2] {
+                let key = [x, y, z];
+                let present = if scale == 0 {
+                    level.cells.contains_key(&key)
+                } else {
+                    level.occupied[scale - 1].contains(&key)
+                };
+                if present {
+                    cands.push(key);
+                }
+            }
+        }
+    }
+    while scale > 0 {
+        scale -= 1;
+        let mut next = Vec::new();
+        let (flo, fhi) = (coarser(lo, scale), coarser(hi, scale));
+        for c in cands {
+            for dx in 0..8 {
+                for dy in 0..8 {
+                    for dz in 0..8 {
+                        let key = [c[0] * 8 + dx, c[1] * 8 + dy, c[2] * 8 + dz];
+                        if (0..3).any(|a| key[a] < flo[a] || key[a] > fhi[a]) {
+                            continue;
+                        }
+                        let present = if scale == 0 {
+                            level.cells.contains_key(&key)
+                        } else {
+                            level.occupied[scale - 1].contains(&key)
+                        };
+                        if present {
+                            next.push(key);
+                        }
+                    }
+                }
+            }
+        }
+        cands = next;
+    }
+    out.extend(cands);
 }
 
 /// Box of triangle `t`.

@@ -24,6 +24,7 @@ pub mod contour;
 pub mod error;
 pub mod geom;
 pub mod grid;
+pub mod hash;
 pub mod info;
 pub mod io;
 pub mod mesh;
@@ -39,6 +40,7 @@ pub mod surface;
 pub mod swc;
 pub mod track;
 pub mod tube;
+pub mod volume;
 
 pub use check::MeshReport;
 pub use error::{Error, Result, SwcError};

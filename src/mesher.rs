@@ -16,6 +16,7 @@ use crate::splice::{Join, Method, Splicer};
 use crate::surface::Surface;
 use crate::track::Track;
 use crate::tube::Tube;
+use crate::volume::ConeIndex;
 
 /// Radii are never below this fraction of the largest coordinate, so the f32
 /// output keeps a contour's vertices distinct.
@@ -133,7 +134,7 @@ pub fn build(
         }
     }
     // 4. Splice every open start onto what it grows out of, in build order.
-    let mut splicer = Splicer::new(&mut surface, &tubes, params.cap_rings);
+    let mut splicer = Splicer::new(&mut surface, &tubes, &joins, params.cap_rings);
     let debug_topology = std::env::var_os("NEUROMESH_DEBUG_TOPOLOGY").is_some();
     for (ji, join) in joins.iter().enumerate() {
         let method = splicer.join(&tubes, join);
@@ -184,35 +185,26 @@ pub fn build(
 }
 
 /// For every branch, the track point its tube starts at: 0 for root and soma
-/// branches; for a secondary, its first contour clear of its primary's round
-/// cones near the branch point (and of the grandparent's, when the primary is
-/// hidden itself); `None` when no contour of the branch is clear.
+/// branches; for a secondary, its first contour clear of the round cones of
+/// every earlier branch near its branch point (its primary, its siblings, its
+/// neighbours; see [`crate::volume`]); `None` when no contour of the branch is
+/// clear (it is hidden inside them).
 fn first_contours(branches: &[Branch], tracks: &[Track]) -> Vec<Option<usize>> {
+    let index = ConeIndex::new(tracks);
     let mut starts: Vec<Option<usize>> = vec![Some(0); branches.len()];
     for (i, b) in branches.iter().enumerate() {
-        let Attachment::Secondary { .. } = b.attachment else {
+        let Attachment::Secondary { parent, at } = b.attachment else {
             continue;
         };
-        let mut cones = Vec::new();
-        let reach = 8.0
-            * (tracks[i].radii[0] + tracks[i].radii.iter().take(8).copied().fold(0.0, f64::max));
-        // Walk up while the hosts are hidden, collecting their cones too.
-        let mut child = i;
-        while let Attachment::Secondary { parent, at } = branches[child].attachment {
-            let p = parent as usize;
-            let tp = &tracks[p];
-            let ip = tp.originals[at as usize];
-            let rp = tp.radii[ip];
-            let w = reach + 8.0 * rp;
-            let lo = tp.at_arc(tp.arc[ip] - w).saturating_sub(1);
-            let hi = tp.at_arc(tp.arc[ip] + w);
-            cones.extend(crate::splice::cones(tp, lo, hi));
-            if starts[p].is_some() {
-                break;
-            }
-            child = p;
-        }
-        starts[i] = crate::splice::first_outside(&tracks[i], &cones);
+        let t = &tracks[i];
+        let tp = &tracks[parent as usize];
+        let rp = tp.radii[tp.originals[at as usize]];
+        // Far enough for a secondary leaving at 20° to clear a primary.
+        let reach = 8.0 * (rp + t.radii.iter().take(8).copied().fold(0.0, f64::max));
+        let cones = index.near(tracks, t.samples[0].pos, reach, |other| {
+            (other as usize) < i && starts[other as usize].is_some()
+        });
+        starts[i] = crate::volume::first_outside(t, &cones);
     }
     starts
 }

@@ -22,8 +22,9 @@
 //! pulled back one contour at a time. Neighbours that share a contour are never
 //! compared: they meet only on that contour's plane, along its edges.
 
-use std::collections::HashMap;
 use std::ops::Range;
+
+use crate::hash::FastMap;
 
 use glam::DVec3;
 
@@ -109,7 +110,7 @@ impl Part {
 /// The parts of the piece under construction, in a uniform grid.
 struct Guard {
     cell: f64,
-    grid: HashMap<[i64; 3], Vec<u32>>,
+    grid: FastMap<[i64; 3], Vec<u32>>,
     parts: Vec<Part>,
     seen: Vec<u32>,
     epoch: u32,
@@ -119,7 +120,7 @@ impl Guard {
     fn new(cell: f64) -> Guard {
         Guard {
             cell,
-            grid: HashMap::new(),
+            grid: FastMap::default(),
             parts: Vec::new(),
             seen: Vec::new(),
             epoch: 0,
@@ -357,10 +358,10 @@ pub fn build_pieces(
         } else {
             // Spliced later: begin where the contours clear this piece's volume
             // (its round cones and end cap).
-            let mut volume = crate::splice::cones(track, piece_start, last.resampled as usize);
+            let mut volume = crate::volume::cones(track, piece_start, last.resampled as usize);
             let h = cap_height(&last, caps.rings);
             volume.push((last.center, last.center, h, h));
-            match crate::splice::first_outside_from(track, next, &volume) {
+            match crate::volume::first_outside_from(track, next, &volume) {
                 Some(k) => start = k,
                 None => break,
             }

@@ -44,7 +44,6 @@ use crate::bvh::Aabb;
 use crate::contour::DiscFrame;
 use crate::grid::{TriangleGrid, tri_box};
 use crate::surface::Surface;
-use crate::track::Track;
 use crate::tube::{self, Tube};
 
 /// A tube to attach to the surface.
@@ -73,30 +72,36 @@ pub struct Splicer<'a> {
     grid: TriangleGrid,
     /// Tube of each triangle (u32::MAX for bridges).
     owner: Vec<u32>,
-    /// Triangles no Q may take: bridges and the first band of every secondary.
-    locked: Vec<bool>,
+    /// Triangles no Q may take: the first band of every tube whose start is
+    /// still open, since its ring borders a hole its own junction will fill.
+    reserved: Vec<bool>,
     cap_rings: u32,
     /// Why attempts failed, for diagnostics.
     pub failures: std::collections::BTreeMap<&'static str, u32>,
+    last_failure: &'static str,
 }
 
 impl<'a> Splicer<'a> {
-    /// Prepares to splice into `surface`, whose triangles belong to `tubes`.
-    pub fn new(surface: &'a mut Surface, tubes: &[Tube], cap_rings: u32) -> Splicer<'a> {
+    /// Prepares to splice `joins` into `surface`, whose triangles belong to
+    /// `tubes`. Only triangles within reach of some junction are indexed.
+    pub fn new(
+        surface: &'a mut Surface,
+        tubes: &[Tube],
+        joins: &[Join],
+        cap_rings: u32,
+    ) -> Splicer<'a> {
         let mut owner = vec![u32::MAX; surface.tris.len()];
         for (i, t) in tubes.iter().enumerate() {
             for k in t.tris.clone() {
                 owner[k as usize] = i as u32;
             }
         }
-        let grid = TriangleGrid::new(surface);
-        // The first band of a tube with an open start borders a hole that its own
-        // junction will fill; no other junction's Q may take it.
-        let mut locked = vec![false; surface.tris.len()];
+        let grid = TriangleGrid::new_where(surface, near_a_junction(tubes, joins));
+        let mut reserved = vec![false; surface.tris.len()];
         for t in tubes {
-            if t.start_cap.is_empty() && t.bands.len() > 1 {
-                for k in t.bands[0]..t.bands[1] {
-                    locked[k as usize] = true;
+            if t.start_cap.is_empty() {
+                for k in first_band(surface, t) {
+                    reserved[k as usize] = true;
                 }
             }
         }
@@ -104,9 +109,10 @@ impl<'a> Splicer<'a> {
             surface,
             grid,
             owner,
-            locked,
+            reserved,
             cap_rings,
             failures: std::collections::BTreeMap::new(),
+            last_failure: "",
         }
     }
 
@@ -114,15 +120,28 @@ impl<'a> Splicer<'a> {
     /// order; always leaves the surface closed.
     pub fn join(&mut self, tubes: &[Tube], join: &Join) -> Method {
         let tube = &tubes[join.tube as usize];
+        let mut why: Vec<&'static str> = Vec::new();
         for (i, a) in attempts(tube).into_iter().enumerate() {
             if self.try_bridge(join.tube, tube, a, join.toward) {
+                self.release(tube);
                 return if i == 0 { Method::Paper } else { Method::Moved };
             }
+            why.push(self.last_failure);
+        }
+        if std::env::var_os("NEUROMESH_DEBUG_DETACHED").is_some() {
+            eprintln!(
+                "detached tube {} (r {:.3}, {} rings): {:?}",
+                join.tube,
+                tube.rings[0].radius,
+                tube.rings.len(),
+                why
+            );
         }
         // Detached: close the tube's start with a cap.
         let first = self.surface.tris.len() as u32;
         tube::cap(self.surface, &tube.rings[0], self.cap_rings, false);
-        self.adopt(first, join.tube, false);
+        self.adopt(first, join.tube);
+        self.release(tube);
         Method::Detached
     }
 
@@ -132,14 +151,20 @@ impl<'a> Splicer<'a> {
     }
 
     /// Registers triangles from `first` to the end of the surface.
-    fn adopt(&mut self, first: u32, owner: u32, lock: bool) {
+    fn adopt(&mut self, first: u32, owner: u32) {
         let n = self.surface.tris.len();
         self.owner.resize(n, owner);
-        self.locked.resize(n, lock);
+        self.reserved.resize(n, false);
         for t in first..n as u32 {
             self.owner[t as usize] = owner;
-            self.locked[t as usize] = lock;
             self.grid.insert(self.surface, t);
+        }
+    }
+
+    /// The tube's start is no longer open: its first band is free for others.
+    fn release(&mut self, tube: &Tube) {
+        for k in first_band(self.surface, tube) {
+            self.reserved[k as usize] = false;
         }
     }
 
@@ -162,6 +187,7 @@ impl<'a> Splicer<'a> {
         let result = self.bridge(tube_id, tube, a, toward, &dropped);
         if let Err(why) = result {
             *self.failures.entry(why).or_insert(0) += 1;
+            self.last_failure = why;
         }
         let ok = result.is_ok();
         if !ok {
@@ -203,8 +229,8 @@ impl<'a> Splicer<'a> {
             }
             return Err("ray hits nothing");
         };
-        if self.locked[target as usize] {
-            return Err("ray hits a junction");
+        if self.reserved[target as usize] {
+            return Err("ray hits an open tube's first band");
         }
         let h = c1.center + dir * s;
         let n_t = tri_normal(self.surface, target);
@@ -218,7 +244,7 @@ impl<'a> Splicer<'a> {
         // 2. Region Q.
         let rho = c1.radius * a.footprint;
         let Some(q) = self.grow_region(tube_id, target, h, axis, rho) else {
-            return Err("Q reaches a locked triangle");
+            return Err("region Q could not be grown");
         };
         let Some(c_q) = boundary_loop(self.surface, &q) else {
             return Err("Q is not a disk");
@@ -372,13 +398,7 @@ impl<'a> Splicer<'a> {
             }
             return Err(why);
         }
-        self.adopt(first_tri, u32::MAX, true);
-        // The secondary's first band is part of the junction now.
-        if k + 1 < tube.bands.len() {
-            for t in tube.bands[k]..tube.bands[k + 1] {
-                self.locked[t as usize] = true;
-            }
-        }
+        self.adopt(first_tri, u32::MAX);
         Ok(())
     }
 
@@ -399,8 +419,7 @@ impl<'a> Splicer<'a> {
         self.grid
             .for_each_near(self.surface, &query, |t| near.push(t));
         // Local edge → triangles map.
-        let mut edges: std::collections::HashMap<(u32, u32), [u32; 2]> =
-            std::collections::HashMap::new();
+        let mut edges: crate::hash::FastMap<(u32, u32), [u32; 2]> = crate::hash::FastMap::default();
         for &t in &near {
             let f = self.surface.tris[t as usize];
             for e in 0..3 {
@@ -422,7 +441,8 @@ impl<'a> Splicer<'a> {
             perp <= rho && tri_normal(s, t).dot(axis) > 0.1
         };
         let mut q = vec![target];
-        let mut in_q = std::collections::HashSet::from([target]);
+        let mut in_q: crate::hash::FastSet<u32> = crate::hash::FastSet::default();
+        in_q.insert(target);
         let mut head = 0;
         while head < q.len() {
             let t = q[head];
@@ -437,7 +457,7 @@ impl<'a> Splicer<'a> {
                     if n == u32::MAX || in_q.contains(&n) {
                         continue;
                     }
-                    if self.locked[n as usize] || self.owner[n as usize] == tube_id {
+                    if self.reserved[n as usize] || self.owner[n as usize] == tube_id {
                         continue;
                     }
                     if inside(n, self.surface) {
@@ -446,9 +466,6 @@ impl<'a> Splicer<'a> {
                     }
                 }
             }
-        }
-        if q.iter().any(|&t| self.locked[t as usize]) {
-            return None;
         }
         Some(q)
     }
@@ -468,8 +485,8 @@ impl<'a> Splicer<'a> {
         near.extend(first..n);
         // Topology: every edge of the bridge must end up in exactly two live
         // triangles that run it in opposite directions.
-        let mut uses: std::collections::HashMap<(u32, u32), (u32, u32)> =
-            std::collections::HashMap::new();
+        let mut uses: crate::hash::FastMap<(u32, u32), (u32, u32)> =
+            crate::hash::FastMap::default();
         for t in (first..n).chain(removed.iter().copied()) {
             let f = self.surface.tris[t as usize];
             for e in 0..3 {
@@ -524,6 +541,91 @@ impl<'a> Splicer<'a> {
             }
         }
         Ok(())
+    }
+}
+
+/// The triangles of `tube` that touch its first ring (its first band, or for a
+/// single-ring tube the start of its end cap).
+fn first_band(surface: &Surface, tube: &Tube) -> Vec<u32> {
+    let r0 = tube.rings[0];
+    let on_ring = |v: u32| (r0.first..r0.first + r0.m).contains(&v);
+    let end = tube.bands.get(1).copied().unwrap_or(tube.tris.end);
+    (tube.bands[0]..end)
+        .filter(|&t| surface.tris[t as usize].iter().any(|&v| on_ring(v)))
+        .collect()
+}
+
+/// A test for "within reach of some junction": a ball around each junction's
+/// first contour large enough for every attempt (the ray's reach, Q, the
+/// bridge, later contours), looked up through a coarse hash of the balls.
+fn near_a_junction(tubes: &[Tube], joins: &[Join]) -> impl Fn(&Aabb) -> bool + use<> {
+    let balls: Vec<(DVec3, f64)> = joins
+        .iter()
+        .map(|j| {
+            // Every attempt's ray, region Q and bridge lie within this distance of
+            // the first contour (see `attempts` and `bridge`).
+            let t = &tubes[j.tube as usize];
+            let c1 = t.rings[0];
+            let rings = &t.rings[..t.rings.len().min(8)];
+            let far = rings
+                .iter()
+                .map(|r| r.center.distance(c1.center))
+                .fold(0.0, f64::max);
+            let r = rings.iter().map(|r| r.radius).fold(0.0, f64::max);
+            let reach = 2.0 * (j.toward.distance(c1.center) + far).max(r) + 4.0 * r;
+            (c1.center, far + reach + 4.0 * r)
+        })
+        .collect();
+    let mut sizes: Vec<f64> = balls.iter().map(|b| b.1).collect();
+    sizes.sort_by(f64::total_cmp);
+    let cell = sizes
+        .get(sizes.len() / 2)
+        .copied()
+        .unwrap_or(1.0)
+        .max(1e-300)
+        * 2.0;
+    let mut hash: crate::hash::FastMap<[i64; 3], Vec<u32>> = crate::hash::FastMap::default();
+    for (i, &(c, r)) in balls.iter().enumerate() {
+        // Padded by half a cell: a small triangle touching the ball has its
+        // centre within that margin.
+        let lo = ((c - DVec3::splat(r + 0.5 * cell)) / cell)
+            .floor()
+            .as_i64vec3();
+        let hi = ((c + DVec3::splat(r + 0.5 * cell)) / cell)
+            .floor()
+            .as_i64vec3();
+        let n = (hi - lo + 1).as_dvec3();
+        if n.x * n.y * n.z > 4096.0 {
+            hash.entry([i64::MAX; 3]).or_default().push(i as u32); // huge ball: always checked
+            continue;
+        }
+        for x in lo.x..=hi.x {
+            for y in lo.y..=hi.y {
+                for z in lo.z..=hi.z {
+                    hash.entry([x, y, z]).or_default().push(i as u32);
+                }
+            }
+        }
+    }
+    move |b: &Aabb| {
+        let center = DVec3::from_array([
+            (b.lo[0] + b.hi[0]) / 2.0,
+            (b.lo[1] + b.hi[1]) / 2.0,
+            (b.lo[2] + b.hi[2]) / 2.0,
+        ]);
+        let half = DVec3::from_array([b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]])
+            .length()
+            / 2.0;
+        if half > 0.5 * cell {
+            return true; // large triangles are few: always indexed
+        }
+        let key = (center / cell).floor().as_i64vec3();
+        let touches = |ids: &Vec<u32>| {
+            ids.iter()
+                .any(|&i| balls[i as usize].0.distance(center) <= balls[i as usize].1 + half)
+        };
+        hash.get(&[i64::MAX; 3]).is_some_and(touches)
+            || hash.get(&[key.x, key.y, key.z]).is_some_and(touches)
     }
 }
 
@@ -672,15 +774,15 @@ fn tri_normal(s: &Surface, t: u32) -> DVec3 {
 /// triangles' own edge directions; `None` unless the set is a topological disk
 /// (a single simple boundary loop and Euler characteristic 1).
 pub fn boundary_loop(s: &Surface, q: &[u32]) -> Option<Vec<u32>> {
-    use std::collections::HashMap;
-    let mut directed: HashMap<(u32, u32), u32> = HashMap::new();
+    use crate::hash::FastMap as HashMap;
+    let mut directed: HashMap<(u32, u32), u32> = HashMap::default();
     for &t in q {
         let f = s.tris[t as usize];
         for e in 0..3 {
             *directed.entry((f[e], f[(e + 1) % 3])).or_insert(0) += 1;
         }
     }
-    let mut next: HashMap<u32, u32> = HashMap::new();
+    let mut next: HashMap<u32, u32> = HashMap::default();
     let mut edges_total = 0usize;
     for (&(a, b), &count) in &directed {
         if count > 1 {
@@ -726,86 +828,6 @@ fn point_segment_2d(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         0.0
     };
     ((p[0] - a[0] - t * dx).powi(2) + (p[1] - a[1] - t * dy).powi(2)).sqrt()
-}
-
-/// The first track point of a secondary whose contour touches none of the
-/// given round cones (`(a, b, r_a, r_b)` segments of the primary near the branch
-/// point), with a margin of a tenth of the secondary's radius; `None` if every
-/// contour of the branch touches them (the branch is hidden inside).
-pub fn first_outside(track: &Track, cones: &[(DVec3, DVec3, f64, f64)]) -> Option<usize> {
-    first_outside_from(track, 0, cones)
-}
-
-/// [`first_outside`] starting the search at point `from`.
-pub fn first_outside_from(
-    track: &Track,
-    from: usize,
-    cones: &[(DVec3, DVec3, f64, f64)],
-) -> Option<usize> {
-    (from..track.samples.len()).find(|&i| {
-        let s = &track.samples[i];
-        let r = track.radii[i];
-        let margin = 0.1 * r;
-        let u = track.frames[i];
-        let v = s.tangent.cross(u);
-        let m = track.counts[i];
-        !cones.iter().any(|&(a, b, ra, rb)| {
-            // A contour vertex inside the cone.
-            let vertex_inside = (0..m).any(|j| {
-                let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
-                let p = s.pos + r * (th.cos() * u + th.sin() * v);
-                inside_cone(p, a, b, ra, rb, margin)
-            });
-            // Or the cone's axis crossing the disc.
-            vertex_inside || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
-        })
-    })
-}
-
-fn inside_cone(p: DVec3, a: DVec3, b: DVec3, ra: f64, rb: f64, margin: f64) -> bool {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let r = ra + (rb - ra) * t;
-    p.distance(a + ab * t) < r + margin
-}
-
-fn axis_crosses_disc(a: DVec3, b: DVec3, r_cone: f64, c: DVec3, n: DVec3, r: f64) -> bool {
-    let (da, db) = ((a - c).dot(n), (b - c).dot(n));
-    if da * db > 0.0 {
-        return false;
-    }
-    let t = if (da - db).abs() > 0.0 {
-        da / (da - db)
-    } else {
-        0.0
-    };
-    let x = a + (b - a) * t;
-    x.distance(c) < r + r_cone
-}
-
-/// The round cones of `track` between resampled points `from` and `to`.
-pub fn cones(track: &Track, from: usize, to: usize) -> Vec<(DVec3, DVec3, f64, f64)> {
-    let to = to.min(track.samples.len().saturating_sub(1));
-    if from >= to {
-        let i = from.min(track.samples.len() - 1);
-        let p = track.samples[i].pos;
-        return vec![(p, p, track.radii[i], track.radii[i])];
-    }
-    (from..to)
-        .map(|i| {
-            (
-                track.samples[i].pos,
-                track.samples[i + 1].pos,
-                track.radii[i],
-                track.radii[i + 1],
-            )
-        })
-        .collect()
 }
 
 #[cfg(test)]

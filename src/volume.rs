@@ -1,0 +1,198 @@
+//! Round-cone volumes of tracks: where a tube may start.
+//!
+//! The paper drops a secondary's contours "situated in the volume of the
+//! primary branch". We read "volume" as the union of round cones of the
+//! resampled skeleton (each segment with its polygon radii at both ends), and
+//! extend it to every branch built before the secondary that passes near its
+//! branch point: siblings leaving a multifurcation in similar directions
+//! overlap each other as much as their primary, and a secondary that starts
+//! inside a sibling must grow out of that sibling's surface, not through it.
+
+use glam::DVec3;
+
+use crate::hash::FastMap;
+use crate::track::Track;
+
+/// A round cone: segment `a`–`b` with radii `ra`, `rb`.
+pub type Cone = (DVec3, DVec3, f64, f64);
+
+/// The first track point of a secondary whose contour touches none of the
+/// given round cones (`(a, b, r_a, r_b)` segments of the primary near the branch
+/// point), with a margin of a tenth of the secondary's radius; `None` if every
+/// contour of the branch touches them (the branch is hidden inside).
+pub fn first_outside(track: &Track, cones: &[Cone]) -> Option<usize> {
+    first_outside_from(track, 0, cones)
+}
+
+/// [`first_outside`] starting the search at point `from`.
+pub fn first_outside_from(
+    track: &Track,
+    from: usize,
+    cones: &[(DVec3, DVec3, f64, f64)],
+) -> Option<usize> {
+    (from..track.samples.len()).find(|&i| {
+        let s = &track.samples[i];
+        let r = track.radii[i];
+        let margin = 0.1 * r;
+        let u = track.frames[i];
+        let v = s.tangent.cross(u);
+        let m = track.counts[i];
+        !cones.iter().any(|&(a, b, ra, rb)| {
+            // A contour vertex inside the cone.
+            let vertex_inside = (0..m).any(|j| {
+                let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
+                let p = s.pos + r * (th.cos() * u + th.sin() * v);
+                inside_cone(p, a, b, ra, rb, margin)
+            });
+            // Or the cone's axis crossing the disc.
+            vertex_inside || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
+        })
+    })
+}
+
+fn inside_cone(p: DVec3, a: DVec3, b: DVec3, ra: f64, rb: f64, margin: f64) -> bool {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let r = ra + (rb - ra) * t;
+    p.distance(a + ab * t) < r + margin
+}
+
+fn axis_crosses_disc(a: DVec3, b: DVec3, r_cone: f64, c: DVec3, n: DVec3, r: f64) -> bool {
+    let (da, db) = ((a - c).dot(n), (b - c).dot(n));
+    if da * db > 0.0 {
+        return false;
+    }
+    let t = if (da - db).abs() > 0.0 {
+        da / (da - db)
+    } else {
+        0.0
+    };
+    let x = a + (b - a) * t;
+    x.distance(c) < r + r_cone
+}
+
+/// The round cones of `track` between resampled points `from` and `to`.
+pub fn cones(track: &Track, from: usize, to: usize) -> Vec<Cone> {
+    let to = to.min(track.samples.len().saturating_sub(1));
+    if from >= to {
+        let i = from.min(track.samples.len() - 1);
+        let p = track.samples[i].pos;
+        return vec![(p, p, track.radii[i], track.radii[i])];
+    }
+    (from..to)
+        .map(|i| {
+            (
+                track.samples[i].pos,
+                track.samples[i + 1].pos,
+                track.radii[i],
+                track.radii[i + 1],
+            )
+        })
+        .collect()
+}
+
+/// The round cones of every track, bucketed in a uniform grid so the cones
+/// near a point can be listed.
+pub struct ConeIndex {
+    cell: f64,
+    grid: FastMap<[i64; 3], Vec<(u32, u32)>>,
+    /// Cones too large for the grid (absurd radii), always checked.
+    large: Vec<(u32, u32)>,
+}
+
+impl ConeIndex {
+    /// Indexes the segments of all `tracks`.
+    pub fn new(tracks: &[Track]) -> ConeIndex {
+        let mut sizes: Vec<f64> = tracks
+            .iter()
+            .flat_map(|t| t.radii.iter().step_by(1 + t.radii.len() / 64).copied())
+            .collect();
+        sizes.sort_by(f64::total_cmp);
+        let cell = 8.0
+            * sizes
+                .get(sizes.len() / 2)
+                .copied()
+                .unwrap_or(1.0)
+                .max(1e-300);
+        let mut grid: FastMap<[i64; 3], Vec<(u32, u32)>> = FastMap::default();
+        let mut large = Vec::new();
+        for (b, t) in tracks.iter().enumerate() {
+            for i in 0..t.samples.len().saturating_sub(1).max(1) {
+                let j = (i + 1).min(t.samples.len() - 1);
+                let r = t.radii[i].max(t.radii[j]);
+                let (p, q) = (t.samples[i].pos, t.samples[j].pos);
+                let lo = ((p.min(q) - DVec3::splat(r)) / cell).floor().as_i64vec3();
+                let hi = ((p.max(q) + DVec3::splat(r)) / cell).floor().as_i64vec3();
+                let n = (hi - lo + 1).as_dvec3();
+                if n.x * n.y * n.z > 512.0 {
+                    large.push((b as u32, i as u32));
+                    continue;
+                }
+                for x in lo.x..=hi.x {
+                    for y in lo.y..=hi.y {
+                        for z in lo.z..=hi.z {
+                            grid.entry([x, y, z])
+                                .or_default()
+                                .push((b as u32, i as u32));
+                        }
+                    }
+                }
+            }
+        }
+        ConeIndex { cell, grid, large }
+    }
+
+    /// The cones of branches accepted by `keep` that come within `reach` of `p`.
+    pub fn near(
+        &self,
+        tracks: &[Track],
+        p: DVec3,
+        reach: f64,
+        keep: impl Fn(u32) -> bool,
+    ) -> Vec<Cone> {
+        let lo = ((p - DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
+        let hi = ((p + DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
+        let mut seen: crate::hash::FastSet<(u32, u32)> = crate::hash::FastSet::default();
+        let mut out = Vec::new();
+        let mut consider = |b: u32, i: u32, out: &mut Vec<Cone>| {
+            if !keep(b) || !seen.insert((b, i)) {
+                return;
+            }
+            let t = &tracks[b as usize];
+            let j = (i as usize + 1).min(t.samples.len() - 1);
+            let (a, c) = (t.samples[i as usize].pos, t.samples[j].pos);
+            let (ra, rc) = (t.radii[i as usize], t.radii[j]);
+            if crate::geom::segment_distance(a, c, p, p) <= reach + ra.max(rc) {
+                out.push((a, c, ra, rc));
+            }
+        };
+        for &(b, i) in &self.large {
+            consider(b, i, &mut out);
+        }
+        let n = (hi - lo + 1).as_dvec3();
+        if n.x * n.y * n.z <= (self.grid.len() as f64).max(64.0) {
+            for x in lo.x..=hi.x {
+                for y in lo.y..=hi.y {
+                    for z in lo.z..=hi.z {
+                        for &(b, i) in self.grid.get(&[x, y, z]).map_or(&[][..], |v| &v[..]) {
+                            consider(b, i, &mut out);
+                        }
+                    }
+                }
+            }
+        } else {
+            // A reach larger than the grid itself: every cell is a candidate.
+            for ids in self.grid.values() {
+                for &(b, i) in ids {
+                    consider(b, i, &mut out);
+                }
+            }
+        }
+        out
+    }
+}
