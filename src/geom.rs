@@ -243,6 +243,41 @@ pub fn segment_distance(a: glam::DVec3, b: glam::DVec3, c: glam::DVec3, d: glam:
     (a + u * s).distance(c + v * t)
 }
 
+/// The point of triangle `t` closest to `p` (Ericson, Real-Time Collision
+/// Detection, 5.1.5).
+pub fn closest_point_on_triangle(p: glam::DVec3, t: [glam::DVec3; 3]) -> glam::DVec3 {
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
 /// Möller–Trumbore: distance along `dir` (not normalised) to triangle `t`, if the
 /// ray from `origin` hits it at a parameter ≥ 0.
 pub fn ray_triangle(origin: P3, dir: P3, t: [P3; 3]) -> Option<f64> {
@@ -331,6 +366,26 @@ mod tests {
         assert!(!triangles_fold_on_shared_edge(T, proper));
         let bent = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.5, 0.5]];
         assert!(!triangles_fold_on_shared_edge(T, bent));
+    }
+
+    #[test]
+    fn closest_points() {
+        use glam::DVec3;
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        assert_eq!(
+            closest_point_on_triangle(DVec3::new(0.2, 0.2, 5.0), t),
+            DVec3::new(0.2, 0.2, 0.0)
+        );
+        assert_eq!(
+            closest_point_on_triangle(DVec3::new(-1.0, -1.0, 0.0), t),
+            DVec3::ZERO
+        );
+        assert_eq!(
+            closest_point_on_triangle(DVec3::new(0.5, -2.0, 1.0), t),
+            DVec3::new(0.5, 0.0, 0.0)
+        );
+        let p = closest_point_on_triangle(DVec3::new(1.0, 1.0, 0.0), t);
+        assert!((p - DVec3::new(0.5, 0.5, 0.0)).length() < 1e-12);
     }
 
     #[test]

@@ -72,15 +72,10 @@ impl TriangleGrid {
             epoch: 0,
         };
         g.stamp = vec![0; surface.tris.len()];
-        let mut kept = 0usize;
         for t in 0..surface.tris.len() as u32 {
             if surface.alive[t as usize] && keep(&tri_box(surface, t)) {
                 g.insert(surface, t);
-                kept += 1;
             }
-        }
-        if std::env::var_os("NEUROMESH_DEBUG_SPLICE").is_some() {
-            eprintln!("grid: {kept} of {} triangles indexed", surface.tris.len());
         }
         g
     }

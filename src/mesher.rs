@@ -57,6 +57,45 @@ pub fn build(
     morphology: &Morphology,
     params: &Params,
 ) -> Result<(Surface, Vec<Branch>, Vec<Tube>, BuildStats)> {
+    let TubeStage {
+        mut surface,
+        branches,
+        tubes,
+        joins,
+        mut stats,
+    } = build_tubes(morphology, params)?;
+    // 4. Splice every open start onto what it grows out of, in build order.
+    let mut splicer = Splicer::new(&mut surface, &tubes, &joins, params.cap_rings);
+    for join in &joins {
+        match splicer.join(&tubes, join) {
+            Method::Paper => stats.junctions_paper += 1,
+            Method::Moved => stats.junctions_moved += 1,
+            Method::Detached => stats.junctions_detached += 1,
+        }
+    }
+    Ok((surface, branches, tubes, stats))
+}
+
+/// The surface before splicing: every branch's tube pieces, closed at their
+/// ends except where a join will splice them (secondary starts, later pieces).
+pub struct TubeStage {
+    /// The pieces' vertices and triangles.
+    pub surface: Surface,
+    /// The branches of the morphology.
+    pub branches: Vec<Branch>,
+    /// The pieces, in build order, with their triangle ranges.
+    pub tubes: Vec<Tube>,
+    /// The open starts still to be spliced.
+    pub joins: Vec<Join>,
+    /// Counts so far.
+    pub stats: BuildStats,
+}
+
+/// Steps 1 to 3 of the pipeline: branches, tracks, first contours and tubes.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
     params.validate()?;
     let m = morphology.scaled(params.scale)?;
     let geometry = Geometry::new(&m, params);
@@ -133,55 +172,13 @@ pub fn build(
             tubes.push(t);
         }
     }
-    // 4. Splice every open start onto what it grows out of, in build order.
-    let mut splicer = Splicer::new(&mut surface, &tubes, &joins, params.cap_rings);
-    let debug_topology = std::env::var_os("NEUROMESH_DEBUG_TOPOLOGY").is_some();
-    for (ji, join) in joins.iter().enumerate() {
-        let method = splicer.join(&tubes, join);
-        if debug_topology {
-            let snapshot = splicer.surface_snapshot();
-            let r = snapshot.check_topology_only();
-            if r.1 > 0 || (ji + 1 == joins.len() && r.0 > 0) {
-                eprintln!(
-                    "join {ji} (tube {}, branch {}, {method:?}) broke topology: {} boundary, {} nonmanifold edges",
-                    join.tube, tubes[join.tube as usize].branch, r.0, r.1
-                );
-                let mut uses: std::collections::HashMap<(u32, u32), Vec<usize>> =
-                    std::collections::HashMap::new();
-                for (ti, (f, alive)) in snapshot.tris.iter().zip(&snapshot.alive).enumerate() {
-                    if *alive {
-                        for e in 0..3 {
-                            let (a, b) = (f[e], f[(e + 1) % 3]);
-                            uses.entry((a.min(b), a.max(b))).or_default().push(ti);
-                        }
-                    }
-                }
-                for (e, ts) in uses.iter().filter(|(_, v)| v.len() != 2).take(8) {
-                    eprintln!(
-                        "  edge {e:?}: {:?}",
-                        ts.iter()
-                            .map(|&t| (t, snapshot.tris[t]))
-                            .collect::<Vec<_>>()
-                    );
-                }
-                for (i, t) in tubes.iter().enumerate() {
-                    if t.tris.contains(&107000) || t.tris.end > 53000 && t.tris.start < 54000 {
-                        eprintln!("  tube {i} tris {:?}", t.tris);
-                    }
-                }
-                break;
-            }
-        }
-        match method {
-            Method::Paper => stats.junctions_paper += 1,
-            Method::Moved => stats.junctions_moved += 1,
-            Method::Detached => stats.junctions_detached += 1,
-        }
-    }
-    if std::env::var_os("NEUROMESH_DEBUG_SPLICE").is_some() {
-        eprintln!("splice failures: {:?}", splicer.failures);
-    }
-    Ok((surface, branches, tubes, stats))
+    Ok(TubeStage {
+        surface,
+        branches,
+        tubes,
+        joins,
+        stats,
+    })
 }
 
 /// For every branch, the track point its tube starts at: 0 for root and soma

@@ -78,7 +78,6 @@ pub struct Splicer<'a> {
     cap_rings: u32,
     /// Why attempts failed, for diagnostics.
     pub failures: std::collections::BTreeMap<&'static str, u32>,
-    last_failure: &'static str,
 }
 
 impl<'a> Splicer<'a> {
@@ -112,7 +111,6 @@ impl<'a> Splicer<'a> {
             reserved,
             cap_rings,
             failures: std::collections::BTreeMap::new(),
-            last_failure: "",
         }
     }
 
@@ -120,22 +118,11 @@ impl<'a> Splicer<'a> {
     /// order; always leaves the surface closed.
     pub fn join(&mut self, tubes: &[Tube], join: &Join) -> Method {
         let tube = &tubes[join.tube as usize];
-        let mut why: Vec<&'static str> = Vec::new();
         for (i, a) in attempts(tube).into_iter().enumerate() {
             if self.try_bridge(join.tube, tube, a, join.toward) {
                 self.release(tube);
                 return if i == 0 { Method::Paper } else { Method::Moved };
             }
-            why.push(self.last_failure);
-        }
-        if std::env::var_os("NEUROMESH_DEBUG_DETACHED").is_some() {
-            eprintln!(
-                "detached tube {} (r {:.3}, {} rings): {:?}",
-                join.tube,
-                tube.rings[0].radius,
-                tube.rings.len(),
-                why
-            );
         }
         // Detached: close the tube's start with a cap.
         let first = self.surface.tris.len() as u32;
@@ -143,11 +130,6 @@ impl<'a> Splicer<'a> {
         self.adopt(first, join.tube);
         self.release(tube);
         Method::Detached
-    }
-
-    /// Debugging: a copy of the current surface.
-    pub fn surface_snapshot(&self) -> Surface {
-        self.surface.clone()
     }
 
     /// Registers triangles from `first` to the end of the surface.
@@ -187,7 +169,6 @@ impl<'a> Splicer<'a> {
         let result = self.bridge(tube_id, tube, a, toward, &dropped);
         if let Err(why) = result {
             *self.failures.entry(why).or_insert(0) += 1;
-            self.last_failure = why;
         }
         let ok = result.is_ok();
         if !ok {
@@ -209,9 +190,25 @@ impl<'a> Splicer<'a> {
         let k = a.ring;
         let c1 = tube.rings[k];
         // 1. Target.
-        let mut dir = toward - c1.center;
-        let len = dir.length();
-        if len <= 1e-9 * c1.radius || !a.aim_at_branch_point {
+        let aim_point = match a.aim {
+            Aim::BranchPoint => Some(toward),
+            Aim::NearestSurface => self.nearest_surface_point(
+                tube_id,
+                toward,
+                c1.center.distance(toward) + 4.0 * c1.radius,
+            ),
+            Aim::NearestToStart => self.nearest_surface_point(
+                tube_id,
+                c1.center,
+                c1.center.distance(toward) + 4.0 * c1.radius,
+            ),
+            Aim::Backwards => None,
+        };
+        let (mut dir, len) = match aim_point {
+            Some(p) => (p - c1.center, p.distance(c1.center)),
+            None => (-c1.normal, toward.distance(c1.center)),
+        };
+        if aim_point.is_none() || len <= 1e-9 * c1.radius {
             dir = -c1.normal;
         } else {
             dir /= len;
@@ -221,12 +218,6 @@ impl<'a> Splicer<'a> {
         let Some((target, s)) = self.grid.raycast(self.surface, c1.center, dir, reach, |t| {
             owner[t as usize] != tube_id
         }) else {
-            if std::env::var_os("NEUROMESH_DEBUG_RAY").is_some() {
-                eprintln!(
-                    "miss: c1 {:?} r {} toward {:?} len {} normal {:?} dir {:?}",
-                    c1.center, c1.radius, toward, len, c1.normal, dir
-                );
-            }
             return Err("ray hits nothing");
         };
         if self.reserved[target as usize] {
@@ -238,7 +229,9 @@ impl<'a> Splicer<'a> {
         if n_t.dot(c1.center - h) <= 0.0 || axis == DVec3::ZERO {
             return Err("target faces away");
         }
-        if c1.normal.dot(n_t) < 0.2 {
+        // An oblique secondary needs the tilted C_loc between it and the target.
+        let min_cos = if a.tilted { 0.02 } else { 0.2 };
+        if c1.normal.dot(n_t) < min_cos {
             return Err("secondary too oblique to the target");
         }
         // 2. Region Q.
@@ -263,7 +256,7 @@ impl<'a> Splicer<'a> {
             })
             .sum::<DVec3>()
             .normalize_or_zero();
-        if n_q.dot(c1.center - h) <= 0.0 || c1.normal.dot(n_q) < 0.2 {
+        if n_q.dot(c1.center - h) <= 0.0 || c1.normal.dot(n_q) < min_cos {
             return Err("Q faces away from the secondary");
         }
         let e1 = crate::contour::any_perpendicular(n_q);
@@ -290,13 +283,23 @@ impl<'a> Splicer<'a> {
                 .sum::<f64>()
                 / n as f64
         };
-        // 3. Bridge contours. C_loc sits just above the rim (the skirt below it is
-        // a height field over the plane), strictly inside the rim's projection.
+        // 3. Bridge contours. The paper's C_loc lies in the target's plane; the
+        // tilted variant turns it half-way towards C_1sec, for secondaries that
+        // leave obliquely. Either way C_loc is lifted until the whole rim lies
+        // behind its plane, so the skirt (a height field over the splice plane,
+        // below C_loc) and the bands above C_loc cannot meet, and its
+        // projection lies strictly inside the rim's.
+        let n_loc = if a.tilted {
+            (n_q + c1.normal).normalize_or_zero()
+        } else {
+            n_q
+        };
+        let margin = 0.1 * e_ave.min(c1.radius);
         let lift = c_q
             .iter()
-            .map(|&v| (self.surface.pos[v as usize] - h).dot(n_q))
+            .map(|&v| ((self.surface.pos[v as usize] - h).dot(n_loc) + margin) / n_q.dot(n_loc))
             .fold(0.0, f64::max);
-        let loc_center = h + n_q * (lift + 0.1 * e_ave.min(c1.radius));
+        let loc_center = h + n_q * lift;
         let r_loc = c1.radius.min(0.8 * inradius);
         let offsets: Vec<DVec3> = (0..c1.m)
             .map(|j| self.surface.pos[c1.vertex(j) as usize] - c1.center)
@@ -310,13 +313,6 @@ impl<'a> Splicer<'a> {
                     (l > 1e-12 * radius).then(|| center + p * (radius / l))
                 })
                 .collect()
-        };
-        // The paper's C_loc lies in the target's plane; the tilted variant turns
-        // it half-way towards C_1sec, for secondaries that leave obliquely.
-        let n_loc = if a.tilted {
-            (n_q + c1.normal).normalize_or_zero()
-        } else {
-            n_q
         };
         let Some(loc) = contour_at(loc_center, n_loc, r_loc) else {
             return Err("degenerate C_loc");
@@ -391,7 +387,6 @@ impl<'a> Splicer<'a> {
         // 4. Proof.
         let removed: Vec<u32> = q.iter().chain(dropped).copied().collect();
         if let Err(why) = self.bridge_is_clear(first_tri, &removed) {
-            debug_dump(self.surface, &mut self.grid, first_tri, &q, why);
             self.surface.rollback(mark);
             for &t in &q {
                 self.surface.alive[t as usize] = true;
@@ -400,6 +395,26 @@ impl<'a> Splicer<'a> {
         }
         self.adopt(first_tri, u32::MAX);
         Ok(())
+    }
+
+    /// The point of a live triangle (not of tube `own`, not reserved) nearest to
+    /// `p`, within `reach`.
+    fn nearest_surface_point(&mut self, own: u32, p: DVec3, reach: f64) -> Option<DVec3> {
+        let query = Aabb::of(&[p.to_array()]).inflated(reach);
+        let mut best: Option<(f64, DVec3)> = None;
+        let (surface, owner, reserved) = (&*self.surface, &self.owner, &self.reserved);
+        self.grid.for_each_near(surface, &query, |t| {
+            if owner[t as usize] == own || reserved[t as usize] {
+                return;
+            }
+            let f = surface.tris[t as usize];
+            let q = crate::geom::closest_point_on_triangle(p, f.map(|k| surface.pos[k as usize]));
+            let d = q.distance(p);
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, q));
+            }
+        });
+        best.map(|(_, q)| q)
     }
 
     /// Grows Q from `target`; `None` if it cannot be a disk of live, unlocked,
@@ -531,7 +546,6 @@ impl<'a> Splicer<'a> {
                     pt,
                     pos(o, self.surface),
                 ) {
-                    BAD.with(|b| b.set((t, o)));
                     return Err(if o >= first {
                         "bridge crosses itself"
                     } else {
@@ -629,14 +643,30 @@ fn near_a_junction(tubes: &[Tube], joins: &[Join]) -> impl Fn(&Aabb) -> bool + u
     }
 }
 
+/// Where an attempt casts its ray from C_1sec's centre.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Aim {
+    /// At the branch point (the paper).
+    BranchPoint,
+    /// At the point of the existing surface nearest to the branch point (for
+    /// branch points that lie outside their primary's mesh, where it cuts a
+    /// corner or splits).
+    NearestSurface,
+    /// At the point of the existing surface nearest to C_1sec's centre (a
+    /// secondary that clears a crowd of neighbours far from its branch point
+    /// grows out of the nearest of them).
+    NearestToStart,
+    /// Straight back along the secondary's axis.
+    Backwards,
+}
+
 /// One way to try a junction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Attempt {
     /// Which ring of the secondary's tube serves as C_1sec (0 = its first).
     ring: usize,
-    /// Aim the ray at the branch point (the paper) or straight back along the
-    /// secondary's axis.
-    aim_at_branch_point: bool,
+    /// Where the ray goes.
+    aim: Aim,
     /// Q's footprint radius over C_1sec's radius.
     footprint: f64,
     /// C_loc turned half-way towards C_1sec.
@@ -648,113 +678,40 @@ struct Attempt {
 fn attempts(tube: &Tube) -> Vec<Attempt> {
     let paper = Attempt {
         ring: 0,
-        aim_at_branch_point: true,
+        aim: Aim::BranchPoint,
         footprint: 1.0,
         tilted: false,
     };
+    let variant = |ring: usize, aim: Aim, footprint: f64, tilted: bool| Attempt {
+        ring,
+        aim,
+        footprint,
+        tilted,
+    };
     let mut out = vec![
         paper,
-        Attempt {
-            footprint: 0.7,
-            ..paper
-        },
-        Attempt {
-            tilted: true,
-            ..paper
-        },
-        Attempt {
-            aim_at_branch_point: false,
-            ..paper
-        },
-        Attempt {
-            aim_at_branch_point: false,
-            tilted: true,
-            ..paper
-        },
+        variant(0, Aim::BranchPoint, 0.7, false),
+        variant(0, Aim::BranchPoint, 1.0, true),
+        variant(0, Aim::NearestSurface, 1.0, false),
+        variant(0, Aim::NearestSurface, 1.0, true),
+        variant(0, Aim::NearestToStart, 1.0, false),
+        variant(0, Aim::NearestToStart, 1.0, true),
+        variant(0, Aim::Backwards, 1.0, false),
+        variant(0, Aim::Backwards, 1.0, true),
     ];
     let r0 = tube.rings[0];
     for k in 1..tube.rings.len().min(8) {
         if tube.rings[k].center.distance(r0.center) > 3.0 * r0.radius.max(tube.rings[k].radius) {
             break;
         }
-        for tilted in [false, true] {
-            out.push(Attempt {
-                ring: k,
-                tilted,
-                ..paper
-            });
-        }
-        out.push(Attempt {
-            ring: k,
-            aim_at_branch_point: false,
-            tilted: true,
-            ..paper
-        });
+        out.push(variant(k, Aim::BranchPoint, 1.0, false));
+        out.push(variant(k, Aim::BranchPoint, 1.0, true));
+        out.push(variant(k, Aim::NearestSurface, 1.0, true));
+        out.push(variant(k, Aim::NearestToStart, 1.0, true));
+        out.push(variant(k, Aim::Backwards, 1.0, true));
     }
     out
 }
-
-/// Temporary: writes the neighbourhood of a failed bridge to /tmp for viewing.
-fn debug_dump(s: &Surface, grid: &mut TriangleGrid, first: u32, q: &[u32], why: &str) {
-    static COUNT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let Some(limit) = std::env::var("NEUROMESH_DUMP")
-        .ok()
-        .and_then(|v| v.parse::<usize>().ok())
-    else {
-        return;
-    };
-    let k = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    if k >= limit {
-        return;
-    }
-    let n = s.tris.len() as u32;
-    let mut b = Aabb::EMPTY;
-    for t in first..n {
-        b.add(&tri_box(s, t));
-    }
-    let ext = extent(&b);
-    let mut near = Vec::new();
-    grid.for_each_near(s, &b.inflated(ext), |t| near.push(t));
-    let mut out = format!("# {why}\n");
-    let mut idx = std::collections::HashMap::new();
-    let mut vs = String::new();
-    let mut fs = String::new();
-    let (b1, b2) = BAD.with(|b| b.get());
-    out.push_str(&format!(
-        "# bad {} {} (bridge starts {first}, {} tris, q {})\n",
-        b1,
-        b2,
-        n - first,
-        q.len()
-    ));
-    for (group, tris) in [
-        ("surface", near.clone()),
-        ("q", q.to_vec()),
-        ("bridge", (first..n).collect::<Vec<_>>()),
-        ("bad", vec![b1, b2]),
-    ] {
-        fs.push_str(&format!("g {group}\n"));
-        for t in tris {
-            let f = s.tris[t as usize];
-            let mut ids = [0usize; 3];
-            for (i, &v) in f.iter().enumerate() {
-                let len = idx.len();
-                let id = *idx.entry(v).or_insert_with(|| {
-                    let p = s.pos[v as usize];
-                    vs.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-                    len + 1
-                });
-                ids[i] = id;
-            }
-            fs.push_str(&format!("f {} {} {}\n", ids[0], ids[1], ids[2]));
-        }
-    }
-    out.push_str(&vs);
-    out.push_str(&fs);
-    let _ = std::fs::write(format!("/tmp/join_{k}.obj"), out);
-}
-
-thread_local! { static BAD: std::cell::Cell<(u32, u32)> = const { std::cell::Cell::new((0, 0)) }; }
 
 fn extent(b: &Aabb) -> f64 {
     (0..3).map(|a| b.hi[a] - b.lo[a]).fold(0.0, f64::max)

@@ -93,23 +93,6 @@ impl Surface {
         (v0, t0)
     }
 
-    /// Debugging: (boundary edges, non-manifold edges) of the live triangles.
-    pub fn check_topology_only(&self) -> (usize, usize) {
-        let mut uses: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
-        for (t, alive) in self.tris.iter().zip(&self.alive) {
-            if *alive {
-                for e in 0..3 {
-                    let (a, b) = (t[e], t[(e + 1) % 3]);
-                    *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-                }
-            }
-        }
-        (
-            uses.values().filter(|&&u| u == 1).count(),
-            uses.values().filter(|&&u| u > 2).count(),
-        )
-    }
-
     /// The finished mesh: live triangles only, unused vertices dropped, f32.
     pub fn into_mesh(self, stats: BuildStats) -> Mesh {
         let mut remap = vec![u32::MAX; self.pos.len()];

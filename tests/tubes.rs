@@ -5,7 +5,8 @@ mod common;
 
 use std::f64::consts::PI;
 
-use neuromesh::check::{face_components, self_intersections};
+use neuromesh::check::self_intersections;
+use neuromesh::mesher::build_tubes;
 use neuromesh::{Mesh, Morphology, Params};
 use proptest::prelude::*;
 
@@ -21,27 +22,47 @@ fn mesh(m: &Morphology) -> Mesh {
     neuromesh::mesh_morphology(m, &Params::default()).expect("meshes")
 }
 
-/// Closed, manifold, outward, no degenerate faces, and no intersecting pair of
-/// faces within one connected component.
-fn assert_sound(mesh: &Mesh, what: &str) {
+/// Closed, manifold, outward, no degenerate or duplicate faces.
+fn assert_closed(mesh: &Mesh, what: &str) {
     let r = mesh.view().check_topology();
     assert!(r.is_closed(), "{what}: not closed\n{r}");
     assert!(r.is_manifold(), "{what}: not manifold\n{r}");
     assert!(r.is_outward(), "{what}: not outward\n{r}");
     assert_eq!(r.degenerate_faces, 0, "{what}\n{r}");
     assert_eq!(r.duplicate_faces, 0, "{what}\n{r}");
-    let view = mesh.view();
-    let comp = face_components(&view);
-    let inside: Vec<[u32; 2]> = self_intersections(&view)
-        .into_iter()
-        .filter(|p| comp[p[0] as usize] == comp[p[1] as usize])
-        .collect();
-    assert!(
-        inside.is_empty(),
-        "{what}: {} intersecting pairs inside a component, e.g. {:?}",
-        inside.len(),
-        &inside[..inside.len().min(5)]
-    );
+}
+
+/// Closed as above and free of any self-intersection.
+fn assert_sound(mesh: &Mesh, what: &str) {
+    assert_closed(mesh, what);
+    let r = mesh.check();
+    assert_eq!(r.self_intersections, 0, "{what}\n{r}");
+    assert_eq!(r.components, 1, "{what}\n{r}");
+}
+
+/// The tube stage alone (before splicing): no piece of any branch crosses
+/// itself. Returns the number of pieces.
+fn assert_pieces_sound(m: &Morphology, what: &str) -> usize {
+    let stage = build_tubes(m, &Params::default()).expect("tubes");
+    let s = &stage.surface;
+    let vertices: Vec<[f32; 3]> = s.pos.iter().map(|p| p.as_vec3().to_array()).collect();
+    for (i, t) in stage.tubes.iter().enumerate() {
+        let faces: Vec<[u32; 3]> = (t.tris.start..t.tris.end)
+            .filter(|&f| s.alive[f as usize])
+            .map(|f| s.tris[f as usize])
+            .collect();
+        assert!(!faces.is_empty(), "{what}: piece {i} has no triangles");
+        let piece = Mesh::new(vertices.clone(), faces).expect("valid piece");
+        let pairs = self_intersections(&piece.view());
+        assert!(
+            pairs.is_empty(),
+            "{what}: piece {i} of branch {} crosses itself in {} pairs, e.g. {:?}",
+            t.branch,
+            pairs.len(),
+            &pairs[..pairs.len().min(5)]
+        );
+    }
+    stage.tubes.len()
 }
 
 fn rel(got: f64, want: f64) -> f64 {
@@ -55,7 +76,6 @@ fn straight_cylinder_within_one_percent() {
     let m = path(&[[0.0; 3], [10.0, 0.0, 0.0], [20.0, 0.0, 0.0]], &[1.0; 3]);
     let mesh = mesh(&m);
     assert_sound(&mesh, "cylinder");
-    assert_eq!(mesh.check().components, 1);
     let area = 2.0 * PI * 20.0 + 4.0 * PI;
     let volume = PI * 20.0 + 4.0 / 3.0 * PI;
     let (ea, ev) = (rel(mesh.area(), area), rel(mesh.volume(), volume));
@@ -109,7 +129,6 @@ fn bent_tube_within_one_percent() {
     let m = path(&pts, &vec![1.0; pts.len()]);
     let mesh = mesh(&m);
     assert_sound(&mesh, "bent tube");
-    assert_eq!(mesh.check().components, 1);
     let theta = PI / 2.0;
     let area = 2.0 * PI * 10.0 * theta + 4.0 * PI;
     let volume = PI * 10.0 * theta + 4.0 / 3.0 * PI;
@@ -152,8 +171,10 @@ fn every_branch_of_every_real_file_is_a_sound_tube() {
     for f in common::real_files() {
         let m = Morphology::from_swc(&f).expect("reads");
         let mesh = mesh(&m);
-        assert!(!mesh.faces.is_empty(), "{}", f.display());
-        assert_sound(&mesh, &f.display().to_string());
+        let what = f.display().to_string();
+        assert!(!mesh.faces.is_empty(), "{what}");
+        assert_closed(&mesh, &what);
+        assert_pieces_sound(&m, &what);
     }
 }
 
@@ -213,6 +234,11 @@ proptest! {
         let m = path(&pts, &radii);
         let mesh = mesh(&m);
         prop_assert!(!mesh.faces.is_empty());
-        assert_sound(&mesh, &format!("{pts:?} {radii:?}"));
+        let what = format!("{pts:?} {radii:?}");
+        assert_pieces_sound(&m, &what);
+        // Where the path folds back through itself the spliced surface may
+        // cross its own earlier part: that is the union's business (issue 4's
+        // tests), not the tube's.
+        assert_closed(&mesh, &what);
     }
 }
