@@ -34,6 +34,7 @@ pub mod parallel;
 pub mod params;
 pub mod piece;
 pub mod planar;
+pub mod soma;
 pub mod splice;
 pub mod spline;
 pub mod surface;
