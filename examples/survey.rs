@@ -17,7 +17,7 @@ fn main() {
         .collect();
     files.sort();
     println!(
-        "{:<52} {:>6} {:>8} {:>7} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6}",
+        "{:<52} {:>6} {:>8} {:>7} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6} {:>6} {:>6}",
         "file",
         "samples",
         "tris",
@@ -29,7 +29,9 @@ fn main() {
         "mov",
         "det",
         "constr",
-        "skel"
+        "skel",
+        "dA%",
+        "dV%"
     );
     let mut total = [0u64; 5];
     for f in files {
@@ -44,6 +46,7 @@ fn main() {
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
         let ms = t.elapsed().as_secs_f64() * 1e3;
         let r = mesh.check_with(&m);
+        let u = neuromesh::union::measure_morphology(&m);
         let bad = r.boundary_edges
             + r.nonmanifold_edges
             + r.nonmanifold_vertices
@@ -56,7 +59,7 @@ fn main() {
         total[3] += r.construction_intersections.unwrap_or(0) as u64;
         total[4] += r.skeleton_overlaps.unwrap_or(0) as u64;
         println!(
-            "{:<52} {:>6} {:>8} {:>7.1} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6}",
+            "{:<52} {:>6} {:>8} {:>7.1} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6} {:>+6.2} {:>+6.2}",
             f.file_name().unwrap().to_string_lossy(),
             m.len(),
             mesh.faces.len(),
@@ -69,6 +72,8 @@ fn main() {
             s.junctions_detached,
             r.construction_intersections.unwrap_or(0),
             r.skeleton_overlaps.unwrap_or(0),
+            100.0 * (mesh.area() / u.area - 1.0),
+            100.0 * (mesh.volume() / u.volume - 1.0),
         );
     }
     println!(

@@ -37,10 +37,12 @@ pub mod planar;
 pub mod soma;
 pub mod splice;
 pub mod spline;
+pub mod starts;
 pub mod surface;
 pub mod swc;
 pub mod track;
 pub mod tube;
+pub mod union;
 pub mod volume;
 
 pub use check::MeshReport;

@@ -12,11 +12,12 @@ use crate::mesh::{BuildStats, Mesh};
 use crate::morphology::Morphology;
 use crate::params::Params;
 use crate::piece::{self, Caps};
+use crate::soma;
 use crate::splice::{Join, Method, Splicer};
+use crate::starts::{SomaPlan, Starts};
 use crate::surface::Surface;
 use crate::track::Track;
-use crate::tube::Tube;
-use crate::volume::ConeIndex;
+use crate::tube::{Ring, Tube};
 
 /// Radii are never below this fraction of the largest coordinate, so the f32
 /// output keeps a contour's vertices distinct.
@@ -61,10 +62,29 @@ pub fn build(
         mut surface,
         branches,
         tubes,
-        joins,
+        mut joins,
+        somas,
         mut stats,
     } = build_tubes(morphology, params)?;
-    // 4. Splice every open start onto what it grows out of, in build order.
+    // 4. Somas, joined to the trunks their triangulation takes.
+    for (plan, trunks) in &somas {
+        let rings: Vec<Ring> = trunks.iter().map(|&t| tubes[t as usize].rings[0]).collect();
+        let built = soma::build(&mut surface, &plan.sphere, &rings, plan.spacing, plan.label);
+        if built.is_ok() {
+            stats.soma_trunks += trunks.len() as u32;
+            continue;
+        }
+        // The plain sphere, and every trunk spliced onto it.
+        let _ = soma::build(&mut surface, &plan.sphere, &[], plan.spacing, plan.label);
+        for (&t, ring) in trunks.iter().zip(&rings) {
+            let dir = (ring.center - plan.sphere.center).normalize_or_zero();
+            joins.push(Join {
+                tube: t,
+                toward: plan.sphere.center + plan.sphere.radius * dir,
+            });
+        }
+    }
+    // 5. Splice every open start onto what it grows out of, in build order.
     let mut splicer = Splicer::new(&mut surface, &tubes, &joins, params.cap_rings);
     for join in &joins {
         match splicer.join(&tubes, join) {
@@ -77,7 +97,8 @@ pub fn build(
 }
 
 /// The surface before splicing: every branch's tube pieces, closed at their
-/// ends except where a join will splice them (secondary starts, later pieces).
+/// ends except where a join will splice them (secondary starts, later pieces)
+/// or a soma will join them (trunks).
 pub struct TubeStage {
     /// The pieces' vertices and triangles.
     pub surface: Surface,
@@ -87,6 +108,8 @@ pub struct TubeStage {
     pub tubes: Vec<Tube>,
     /// The open starts still to be spliced.
     pub joins: Vec<Join>,
+    /// Each soma to build, with the tubes whose first ring it joins.
+    pub somas: Vec<(SomaPlan, Vec<u32>)>,
     /// Counts so far.
     pub stats: BuildStats,
 }
@@ -118,9 +141,12 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             .collect();
         Track::new(&points, &radii, params, None)
     });
-    // 2. Where each branch's tube starts: secondaries at their first contour
-    //    clear of the primary (None: hidden inside it).
-    let starts = first_contours(&branches, &tracks);
+    // 2. Where each branch's tube starts, and which trunks each soma takes.
+    let Starts {
+        start: starts,
+        spliced_trunk,
+        somas,
+    } = crate::starts::plan(&m, &branches, &tracks);
     // 3. Tubes, in parallel, appended in branch order.
     let jobs: Vec<u32> = (0..branches.len() as u32)
         .filter(|&i| starts[i as usize].is_some())
@@ -129,9 +155,9 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(&jobs, |&id| {
         let b = &branches[id as usize];
         let track = &tracks[id as usize];
-        let secondary = matches!(b.attachment, Attachment::Secondary { .. });
         let caps = Caps {
-            first_start: !secondary,
+            // Secondaries are spliced and trunks joined to their soma.
+            first_start: b.attachment == Attachment::Root,
             later_starts: false,
             rings: params.cap_rings,
         };
@@ -145,6 +171,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     let mut surface = Surface::with_capacity(built.iter().map(|(s, _, _)| s.pos.len()).sum());
     let mut tubes: Vec<Tube> = Vec::new();
     let mut joins: Vec<Join> = Vec::new();
+    let mut first_tube: Vec<Option<u32>> = vec![None; branches.len()];
     for (local, local_tubes, skipped) in built {
         let (v0, t0) = surface.append(&local);
         stats.contours_skipped += skipped;
@@ -159,51 +186,44 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             t.end_cap = t.end_cap.start + t0..t.end_cap.end + t0;
             t.start_cap_vertices = t.start_cap_vertices.start + v0..t.start_cap_vertices.end + v0;
             t.tris = t.tris.start + t0..t.tris.end + t0;
-            let secondary = matches!(
-                branches[t.branch as usize].attachment,
-                Attachment::Secondary { .. }
-            );
-            if piece_index > 0 || secondary {
+            let b = t.branch as usize;
+            if piece_index == 0 {
+                first_tube[b] = Some(tubes.len() as u32);
+            }
+            let toward = match (piece_index, branches[b].attachment) {
+                (0, Attachment::Secondary { .. }) => Some(t.anchor),
+                (0, Attachment::Soma { .. }) => spliced_trunk[b],
+                (0, Attachment::Root) => None,
+                _ => Some(t.anchor),
+            };
+            if let Some(toward) = toward {
                 joins.push(Join {
                     tube: tubes.len() as u32,
-                    toward: t.anchor,
+                    toward,
                 });
             }
             tubes.push(t);
         }
     }
+    let somas = somas
+        .into_iter()
+        .map(|plan| {
+            let trunks = plan
+                .trunks
+                .iter()
+                .filter_map(|&b| first_tube[b as usize])
+                .collect();
+            (plan, trunks)
+        })
+        .collect();
     Ok(TubeStage {
         surface,
         branches,
         tubes,
         joins,
+        somas,
         stats,
     })
-}
-
-/// For every branch, the track point its tube starts at: 0 for root and soma
-/// branches; for a secondary, its first contour clear of the round cones of
-/// every earlier branch near its branch point (its primary, its siblings, its
-/// neighbours; see [`crate::volume`]); `None` when no contour of the branch is
-/// clear (it is hidden inside them).
-fn first_contours(branches: &[Branch], tracks: &[Track]) -> Vec<Option<usize>> {
-    let index = ConeIndex::new(tracks);
-    let mut starts: Vec<Option<usize>> = vec![Some(0); branches.len()];
-    for (i, b) in branches.iter().enumerate() {
-        let Attachment::Secondary { parent, at } = b.attachment else {
-            continue;
-        };
-        let t = &tracks[i];
-        let tp = &tracks[parent as usize];
-        let rp = tp.radii[tp.originals[at as usize]];
-        // Far enough for a secondary leaving at 20° to clear a primary.
-        let reach = 8.0 * (rp + t.radii.iter().take(8).copied().fold(0.0, f64::max));
-        let cones = index.near(tracks, t.samples[0].pos, reach, |other| {
-            (other as usize) < i && starts[other as usize].is_some()
-        });
-        starts[i] = crate::volume::first_outside(t, &cones);
-    }
-    starts
 }
 
 /// Positions and effective radii of the samples, ready for geometry.

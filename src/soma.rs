@@ -3,9 +3,9 @@
 //! triangulation, and bridged to the trunks' first contours.
 //!
 //! * **Point set.** A Fibonacci sphere at about the trunks' edge length
-//!   ([`spacing`]); the points under each trunk's *footprint* (the trunk's
-//!   first contour projected radially onto the sphere: the paper's C_trans)
-//!   and within half a spacing of it are removed.
+//!   ([`spacing`]); the points under each trunk's *footprint* (the paper's
+//!   C_trans: the trunk's first contour carried onto the sphere, see
+//!   [`footprint_loop`]) and within half a spacing of it are removed.
 //! * **Triangulation on the sphere with a planar CDT.** Stereographic
 //!   projection from a pole P on the sphere, `x ↦ (x·e1, x·e2) / (1 − x·P)`,
 //!   maps every circle on the sphere that misses P to a circle in the plane. A
@@ -100,12 +100,25 @@ pub fn fibonacci(n: usize) -> Vec<DVec3> {
         .collect()
 }
 
-/// The footprint of contour points `pts` on a sphere centred at `center`.
-pub fn footprint(center: DVec3, pts: &[DVec3]) -> Footprint {
-    let units: Vec<DVec3> = pts
-        .iter()
-        .map(|p| (*p - center).normalize_or_zero())
-        .collect();
+/// Where a trunk's first contour meets the sphere, vertex by vertex, as unit
+/// vectors from the centre: the contour projected radially (the paper's
+/// C_trans, translated along the line to the centre until it lies on the
+/// sphere, is the same loop up to the contour's tilt).
+///
+/// Why not the hull of the sphere and the contour's own sphere, which the
+/// union of round cones follows: where a trunk's first sample sits near the
+/// soma's surface that hull touches the sphere far out (half a hemisphere for
+/// a trunk of a third of the soma's radius), so neighbouring trunks' caps would
+/// overlap, while the volume between the hull and the radial bridge is a thin
+/// wedge.
+pub fn footprint_loop(sphere: &Sphere, pts: &[DVec3]) -> Vec<DVec3> {
+    pts.iter()
+        .map(|p| (*p - sphere.center).normalize_or_zero())
+        .collect()
+}
+
+/// The cap spanned by a footprint loop (unit vectors).
+pub fn footprint(units: &[DVec3]) -> Footprint {
     let dir = units.iter().copied().sum::<DVec3>().normalize_or_zero();
     let angle = units
         .iter()
@@ -157,27 +170,20 @@ fn build_unchecked(
 ) -> Result<(), &'static str> {
     let (c, r) = (sphere.center, sphere.radius);
     let delta = spacing / r;
-    // Footprints: ring vertices projected onto the unit sphere about c.
+    // Footprints: where each ring's hull with the sphere touches it.
     let loops: Vec<Vec<DVec3>> = rings
-        .iter()
-        .map(|ring| {
-            (0..ring.m)
-                .map(|j| (surface.pos[ring.vertex(j) as usize] - c).normalize_or_zero())
-                .collect()
-        })
-        .collect();
-    if loops.iter().flatten().any(|u| *u == DVec3::ZERO) {
-        return Err("a contour vertex at the soma centre");
-    }
-    let prints: Vec<Footprint> = rings
         .iter()
         .map(|ring| {
             let pts: Vec<DVec3> = (0..ring.m)
                 .map(|j| surface.pos[ring.vertex(j) as usize])
                 .collect();
-            footprint(c, &pts)
+            footprint_loop(sphere, &pts)
         })
         .collect();
+    if loops.iter().flatten().any(|u| *u == DVec3::ZERO) {
+        return Err("a contour vertex at the soma centre");
+    }
+    let prints: Vec<Footprint> = loops.iter().map(|lp| footprint(lp)).collect();
     // The point set, without what lies under or next to a footprint.
     let mut points: Vec<DVec3> = fibonacci(point_count(delta))
         .into_iter()

@@ -76,6 +76,11 @@ pub struct Splicer<'a> {
     /// still open, since its ring borders a hole its own junction will fill.
     reserved: Vec<bool>,
     cap_rings: u32,
+    /// Tubes already part of their tree's surface: those without a join, and
+    /// those whose join is done. A junction may only land on these (or on
+    /// bridges and somas): landing on a tube still waiting for its own join
+    /// could close a loop of tubes joined only to each other.
+    settled: Vec<bool>,
     /// Why attempts failed, for diagnostics.
     pub failures: std::collections::BTreeMap<&'static str, u32>,
 }
@@ -104,12 +109,17 @@ impl<'a> Splicer<'a> {
                 }
             }
         }
+        let mut settled = vec![true; tubes.len()];
+        for j in joins {
+            settled[j.tube as usize] = false;
+        }
         Splicer {
             surface,
             grid,
             owner,
             reserved,
             cap_rings,
+            settled,
             failures: std::collections::BTreeMap::new(),
         }
     }
@@ -118,6 +128,7 @@ impl<'a> Splicer<'a> {
     /// order; always leaves the surface closed.
     pub fn join(&mut self, tubes: &[Tube], join: &Join) -> Method {
         let tube = &tubes[join.tube as usize];
+        self.settled[join.tube as usize] = true;
         for (i, a) in attempts(tube).into_iter().enumerate() {
             if self.try_bridge(join.tube, tube, a, join.toward) {
                 self.release(tube);
@@ -214,9 +225,10 @@ impl<'a> Splicer<'a> {
             dir /= len;
         }
         let reach = len.max(c1.radius) * 2.0 + 4.0 * c1.radius;
-        let owner = &self.owner;
+        let (owner, settled) = (&self.owner, &self.settled);
         let Some((target, s)) = self.grid.raycast(self.surface, c1.center, dir, reach, |t| {
-            owner[t as usize] != tube_id
+            let o = owner[t as usize];
+            o != tube_id && (o == u32::MAX || settled[o as usize])
         }) else {
             return Err("ray hits nothing");
         };
@@ -403,8 +415,10 @@ impl<'a> Splicer<'a> {
         let query = Aabb::of(&[p.to_array()]).inflated(reach);
         let mut best: Option<(f64, DVec3)> = None;
         let (surface, owner, reserved) = (&*self.surface, &self.owner, &self.reserved);
+        let settled = &self.settled;
         self.grid.for_each_near(surface, &query, |t| {
-            if owner[t as usize] == own || reserved[t as usize] {
+            let o = owner[t as usize];
+            if o == own || reserved[t as usize] || (o != u32::MAX && !settled[o as usize]) {
                 return;
             }
             let f = surface.tris[t as usize];

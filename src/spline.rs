@@ -5,8 +5,9 @@
 //! branch's first segment, the paper's endpoint rule), where `r_avg` is the mean
 //! radius of the branch's original points. So samples are about `r_avg` apart,
 //! which matches the contours' edge length (formula 3): near-equilateral
-//! triangles. Original points are kept; the radius is interpolated linearly; the
-//! tangent is the spline's derivative.
+//! triangles. Original points are kept; the radius is the cross-section of the
+//! segment's round cone ([`cone_section`]: linear where the radius changes
+//! slowly); the tangent is the spline's derivative.
 //!
 //! We use the *centripetal* Catmull-Rom parameterisation (α = ½): on the unevenly
 //! spaced points of real traces the uniform one overshoots and can form cusps or
@@ -106,7 +107,18 @@ pub fn resample(points: &[DVec3], radii: &[f64], r_avg: f64, k1: u32) -> Vec<Sam
             out.push(Sample {
                 pos,
                 tangent,
-                radius: rad[i] + (rad[i + 1] - rad[i]) * u,
+                radius: if j == 0 && i > 0 {
+                    // A joint: the wider of the two cones' sections.
+                    let d0 = pts[i - 1].distance(p1);
+                    cone_section(rad[i], rad[i + 1], d, 0.0).max(cone_section(
+                        rad[i - 1],
+                        rad[i],
+                        d0,
+                        d0,
+                    ))
+                } else {
+                    cone_section(rad[i], rad[i + 1], d, u * d)
+                },
                 source: if u <= 0.5 { src[i] } else { src[i + 1] },
                 original: j == 0,
             });
@@ -132,11 +144,40 @@ pub fn resample(points: &[DVec3], radii: &[f64], r_avg: f64, k1: u32) -> Vec<Sam
         } else {
             chord
         },
-        radius: rad[last],
+        radius: cone_section(
+            rad[last - 1],
+            rad[last],
+            pts[last - 1].distance(pts[last]),
+            pts[last - 1].distance(pts[last]),
+        ),
         source: src[last],
         original: true,
     });
     out
+}
+
+/// Radius of the cross-section at distance `x` along the axis of the round cone
+/// of length `d` between spheres of radii `r1` and `r2` (their convex hull).
+///
+/// Where the radius changes fast along a segment the hull's flank is tangent to
+/// both spheres, not the line between their radii: near the thin end it is
+/// wider than the linear radius by up to `1 / cos φ`, with `sin φ = (r1 − r2) / d`.
+/// Sizing contours by the hull keeps area and volume on the union of round
+/// cones where a neurite tapers steeply or leaves a thick parent.
+pub fn cone_section(r1: f64, r2: f64, d: f64, x: f64) -> f64 {
+    let sphere = |r: f64, dx: f64| (r * r - dx * dx).max(0.0).sqrt();
+    let spheres = sphere(r1, x).max(sphere(r2, d - x));
+    if d <= 0.0 || (r1 - r2).abs() >= d {
+        return spheres;
+    }
+    let sin = (r1 - r2) / d;
+    let cos = (1.0 - sin * sin).sqrt();
+    let (xa, xb) = (r1 * sin, d + r2 * sin);
+    if x <= xa || x >= xb {
+        return spheres;
+    }
+    let (pa, pb) = (r1 * cos, r2 * cos);
+    (pa + (pb - pa) * (x - xa) / (xb - xa)).max(spheres)
 }
 
 /// Replaces each tangent by the direction of the curve at the scale of the tube:
@@ -251,15 +292,24 @@ mod tests {
     }
 
     #[test]
-    fn radius_interpolates_linearly() {
-        let pts = [DVec3::ZERO, DVec3::new(4.0, 0.0, 0.0)];
+    fn radius_follows_the_round_cone() {
+        // A gentle taper: the hull's section is the linear radius within 0.2 %.
+        let pts = [DVec3::ZERO, DVec3::new(40.0, 0.0, 0.0)];
         let s = resample(&pts, &[1.0, 3.0], 1.0, 1);
-        // floor(4/1) + 2 = 6 inserted: u = k/7.
-        assert_eq!(s.len(), 8);
-        for (k, x) in s.iter().enumerate() {
-            let u = k as f64 / 7.0;
-            assert!((x.radius - (1.0 + 2.0 * u)).abs() < 1e-12);
+        for x in &s {
+            let linear = 1.0 + 2.0 * x.pos.x / 40.0;
+            assert!(x.radius >= linear - 1e-12 && x.radius < linear * 1.002);
         }
+        // A steep one: at the thin end the section is r / cos φ.
+        let (r1, r2, d) = (6.0f64, 1.0f64, 10.0f64);
+        let cos = (1.0 - ((r1 - r2) / d).powi(2)).sqrt();
+        let at_end = cone_section(r1, r2, d, d);
+        let want = r1 * cos + (r2 * cos - r1 * cos) * (d - r1 * 0.5) / (d + r2 * 0.5 - r1 * 0.5);
+        assert!((at_end - want).abs() < 1e-12 && at_end > r2);
+        // At the thick end's centre, its own sphere.
+        assert!((cone_section(r1, r2, d, 0.0) - r1).abs() < 1e-12);
+        // One sphere inside the other: the larger sphere's section.
+        assert!((cone_section(5.0, 1.0, 2.0, 1.0) - 24f64.sqrt()).abs() < 1e-12);
     }
 
     #[test]

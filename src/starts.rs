@@ -1,0 +1,168 @@
+//! Where each branch's tube starts, and which trunks the soma takes.
+//!
+//! * A **secondary** starts at its first contour clear of the round cones of
+//!   every earlier branch near its branch point (see [`crate::volume`]).
+//! * A **soma trunk** starts at its first contour outside the soma's sphere.
+//!   Its footprint (that contour projected onto the sphere) must not meet the
+//!   footprint of a thicker trunk: such a trunk is not joined by the soma's
+//!   triangulation but spliced like a secondary onto whatever it grows out of
+//!   (the soma or the thicker trunk), from its first contour clear of both.
+//! * A root branch starts at its first point.
+//!
+//! `None` marks a branch whose every contour lies inside what it would join:
+//! it is hidden and not meshed.
+
+use glam::DVec3;
+
+use crate::branch::{Attachment, Branch};
+use crate::morphology::Morphology;
+use crate::soma::{self, Footprint, Sphere};
+use crate::track::Track;
+use crate::volume::{Cone, ConeIndex};
+
+/// The soma of one tree, as the mesher will build it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SomaPlan {
+    /// Its sphere (radius corrected for the point spacing).
+    pub sphere: Sphere,
+    /// Point spacing on the sphere.
+    pub spacing: f64,
+    /// The sample its vertices are labelled with.
+    pub label: u32,
+    /// Branches whose first contour its triangulation joins.
+    pub trunks: Vec<u32>,
+}
+
+/// Where every tube starts and how it is joined.
+#[derive(Debug, Clone, Default)]
+pub struct Starts {
+    /// Track point each branch's tube starts at (`None`: hidden).
+    pub start: Vec<Option<usize>>,
+    /// For trunks spliced like secondaries: the point on the soma below them.
+    pub spliced_trunk: Vec<Option<DVec3>>,
+    /// One plan per tree with a soma.
+    pub somas: Vec<SomaPlan>,
+}
+
+/// A trunk must leave the sphere at least this steeply (cosine between its
+/// direction and the sphere's normal) for the soma to take it: the bridge from
+/// its footprint runs along the radii.
+const MIN_TRUNK_STEEPNESS: f64 = 0.25;
+
+/// Decides every branch's start (see the module documentation).
+pub fn plan(m: &Morphology, branches: &[Branch], tracks: &[Track]) -> Starts {
+    let index = ConeIndex::new(tracks);
+    let mut out = Starts {
+        start: vec![Some(0); branches.len()],
+        spliced_trunk: vec![None; branches.len()],
+        somas: Vec::new(),
+    };
+    for (ti, tree) in m.trees().iter().enumerate() {
+        if let Some(s) = &tree.soma {
+            plan_soma(&mut out, ti as u32, s, branches, tracks, &index);
+        }
+    }
+    for (i, b) in branches.iter().enumerate() {
+        let Attachment::Secondary { parent, at } = b.attachment else {
+            continue;
+        };
+        let t = &tracks[i];
+        let tp = &tracks[parent as usize];
+        let rp = tp.radii[tp.originals[at as usize]];
+        // Far enough for a secondary leaving at 20° to clear a primary.
+        let reach = 8.0 * (rp + t.radii.iter().take(8).copied().fold(0.0, f64::max));
+        let start = &out.start;
+        let cones = index.near(tracks, t.samples[0].pos, reach, |other| {
+            (other as usize) < i && start[other as usize].is_some()
+        });
+        out.start[i] = crate::volume::first_outside(t, &cones);
+    }
+    out
+}
+
+fn plan_soma(
+    out: &mut Starts,
+    tree: u32,
+    s: &crate::morphology::Soma,
+    branches: &[Branch],
+    tracks: &[Track],
+    index: &ConeIndex,
+) {
+    let center = DVec3::from_array(s.center);
+    // Trunks start clear of the largest sphere the soma may be meshed with.
+    let coarsest = soma::spacing(s.radius, Some(f64::INFINITY)) / s.radius;
+    let outer = soma::mesh_radius(s.radius, coarsest);
+    let ball: [Cone; 1] = [(center, center, outer, outer)];
+    let trunks: Vec<usize> = (0..branches.len())
+        .filter(|&i| branches[i].attachment == Attachment::Soma { tree })
+        .collect();
+    let mut edges = Vec::new();
+    for &i in &trunks {
+        out.start[i] = crate::volume::first_outside(&tracks[i], &ball);
+        if let Some(k) = out.start[i] {
+            let t = &tracks[i];
+            edges.push(std::f64::consts::TAU * t.radii[k] / f64::from(t.counts[k]));
+        }
+    }
+    let mean_edge = (!edges.is_empty()).then(|| edges.iter().sum::<f64>() / edges.len() as f64);
+    let spacing = soma::spacing(s.radius, mean_edge);
+    let sphere = Sphere {
+        center,
+        radius: soma::mesh_radius(s.radius, spacing / s.radius),
+    };
+    // Thickest first; a trunk whose footprint meets a kept one is spliced.
+    let mut order: Vec<usize> = trunks
+        .iter()
+        .copied()
+        .filter(|&i| out.start[i].is_some())
+        .collect();
+    let first_radius: Vec<f64> = order
+        .iter()
+        .map(|&i| tracks[i].radii[out.start[i].unwrap_or(0)])
+        .collect();
+    let mut by_radius: Vec<(usize, f64)> = order.iter().copied().zip(first_radius).collect();
+    by_radius.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    order = by_radius.iter().map(|p| p.0).collect();
+    let radius_at = |i: usize| by_radius.iter().find(|p| p.0 == i).map_or(0.0, |p| p.1);
+    let mut kept: Vec<(usize, Footprint)> = Vec::new();
+    let mut placed: Vec<usize> = Vec::new();
+    for &i in &order {
+        let t = &tracks[i];
+        let k = out.start[i].unwrap_or(0);
+        let print = soma::footprint(&soma::footprint_loop(&sphere, &contour_points(t, k)));
+        let steep = t.samples[k].tangent.dot(print.dir) >= MIN_TRUNK_STEEPNESS;
+        // Caps closer than this leave no room for a point between their loops.
+        let margin = 0.25 * spacing / s.radius;
+        if steep
+            && kept
+                .iter()
+                .all(|(_, f)| !soma::footprints_meet(f, &print, margin))
+        {
+            kept.push((i, print));
+        } else {
+            // Clear of the sphere and of every trunk placed so far.
+            let reach = 8.0 * (radius_at(i) + t.radii.iter().take(8).copied().fold(0.0, f64::max));
+            let mut cones = index.near(tracks, t.samples[k].pos, reach + s.radius, |b| {
+                placed.contains(&(b as usize))
+            });
+            cones.push(ball[0]);
+            out.start[i] = crate::volume::first_outside_from(t, k, &cones);
+            out.spliced_trunk[i] = Some(center + sphere.radius * print.dir);
+        }
+        placed.push(i);
+    }
+    kept.sort_by_key(|(i, _)| *i);
+    out.somas.push(SomaPlan {
+        sphere,
+        spacing,
+        label: s.samples[0],
+        trunks: kept.iter().map(|(i, _)| *i as u32).collect(),
+    });
+}
+
+/// The contour vertices of track point `k`, as the tube will place them.
+fn contour_points(t: &Track, k: usize) -> Vec<DVec3> {
+    let s = &t.samples[k];
+    let u = t.frames[k];
+    crate::contour::ring(s.pos, s.tangent, u, t.radii[k], t.counts[k]).collect()
+}

@@ -1,0 +1,168 @@
+//! Issue 5: the soma. Synthetic cells (a soma alone, with one, three and twelve
+//! neurites) against the union of their round cones, and every real file as
+//! one surface per tree.
+//!
+//! The reference area and volume are those of the exact union of the
+//! skeleton's round cones with the soma as one sphere, integrated by seeded
+//! Monte Carlo over each primitive's surface and volume
+//! ([`neuromesh::union`], standard error about 0.1 %).
+
+mod common;
+
+use std::f64::consts::PI;
+
+use neuromesh::{Mesh, Morphology, Params};
+
+/// A soma of radius `r_soma` at the origin and one straight neurite per
+/// direction: `n` samples 3 apart, radius tapering from 1.2 to 0.6, the first
+/// one just outside the soma.
+fn cell(r_soma: f64, dirs: &[[f64; 3]], n: usize) -> Morphology {
+    let mut ids = vec![1i64];
+    let mut types = vec![1];
+    let mut xyz = vec![[0.0; 3]];
+    let mut radii = vec![r_soma];
+    let mut parents = vec![-1i64];
+    for d in dirs {
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let u = [d[0] / len, d[1] / len, d[2] / len];
+        for k in 0..n {
+            let t = r_soma + 0.5 + 3.0 * k as f64;
+            ids.push(ids.len() as i64 + 1);
+            types.push(3);
+            xyz.push([u[0] * t, u[1] * t, u[2] * t]);
+            radii.push(1.2 - 0.6 * k as f64 / (n.max(2) - 1) as f64);
+            parents.push(if k == 0 { 1 } else { ids.len() as i64 - 1 });
+        }
+    }
+    Morphology::from_arrays(&ids, &types, &xyz, &radii, &parents).expect("valid cell")
+}
+
+/// Closed, manifold, outward, one component, no self-intersection at all,
+/// area and volume within `tol` of the union of round cones.
+fn assert_cell(m: &Morphology, tol: f64, what: &str) -> Mesh {
+    let mesh = neuromesh::mesh_morphology(m, &Params::default()).expect("meshes");
+    let r = mesh.check_with(m);
+    assert!(r.is_valid(), "{what}\n{r}");
+    assert_eq!(r.components, 1, "{what}\n{r}");
+    assert_eq!(r.self_intersections, 0, "{what}\n{r}");
+    let u = neuromesh::union::measure_morphology(m);
+    let (ea, ev) = (mesh.area() / u.area - 1.0, mesh.volume() / u.volume - 1.0);
+    assert!(
+        ea.abs() < tol && ev.abs() < tol,
+        "{what}: area {ea:+.4}, volume {ev:+.4} against the union"
+    );
+    mesh
+}
+
+#[test]
+fn a_soma_alone_is_a_sphere_within_one_percent() {
+    let m = cell(4.0, &[], 0);
+    let mesh = assert_cell(&m, 0.01, "soma alone");
+    let (a, v) = (4.0 * PI * 16.0, 4.0 / 3.0 * PI * 64.0);
+    assert!((mesh.area() / a - 1.0).abs() < 0.01);
+    assert!((mesh.volume() / v - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn a_soma_with_one_neurite() {
+    let m = cell(4.0, &[[1.0, 0.2, 0.1]], 8);
+    let mesh = assert_cell(&m, 0.03, "one neurite");
+    assert_eq!(mesh.stats.soma_trunks, 1);
+}
+
+#[test]
+fn a_soma_with_three_neurites() {
+    let m = cell(
+        4.0,
+        &[[1.0, 0.0, 0.0], [-0.5, 0.8, 0.1], [-0.4, -0.7, 0.5]],
+        8,
+    );
+    let mesh = assert_cell(&m, 0.03, "three neurites");
+    assert_eq!(mesh.stats.soma_trunks, 3);
+}
+
+/// Twelve trunks spread over a soma five times as thick as they are. Measured:
+/// area +2.3 %, volume −5.1 %. The union's round cone from the soma's centre
+/// to each trunk's first sample is a wide fillet around the trunk's base; the
+/// mesh bridges radially from the soma to the trunk's first contour outside
+/// it, which leaves the fillet's wedge out, twelve times.
+#[test]
+fn a_soma_with_twelve_neurites() {
+    let dirs: Vec<[f64; 3]> = neuromesh::soma::fibonacci(12)
+        .iter()
+        .map(|u| u.to_array())
+        .collect();
+    let m = cell(6.0, &dirs, 8);
+    let mesh = assert_cell(&m, 0.06, "twelve neurites");
+    let s = mesh.stats;
+    assert_eq!(
+        s.soma_trunks + s.junctions_paper + s.junctions_moved,
+        12,
+        "{s:?}"
+    );
+}
+
+/// Twelve trunks on one soma point, all within 50° of one direction (as on the
+/// spinal motoneurons): footprints that would overlap are spliced instead.
+/// Still one closed surface without self-intersections; the volume falls short
+/// of the union (measured −8 %) because a spliced trunk starts only where it
+/// clears its neighbours, and the part of its cone outside theirs is lost.
+#[test]
+fn a_soma_with_twelve_crowded_neurites() {
+    let dirs: Vec<[f64; 3]> = (0..12)
+        .map(|k| {
+            let (ring, a) = if k < 4 {
+                (0.35, k as f64 * PI / 2.0)
+            } else {
+                (0.8, (k - 4) as f64 * PI / 4.0 + 0.3)
+            };
+            [ring * a.cos(), ring * a.sin(), 1.0]
+        })
+        .collect();
+    let m = cell(4.0, &dirs, 8);
+    let mesh = assert_cell(&m, 0.12, "twelve crowded neurites");
+    let s = mesh.stats;
+    assert_eq!(
+        s.soma_trunks + s.junctions_paper + s.junctions_moved,
+        12,
+        "{s:?}"
+    );
+}
+
+/// A neurite thicker than its soma still meshes, joined to it.
+#[test]
+fn a_neurite_thicker_than_the_soma() {
+    let ids = [1, 2, 3, 4];
+    let xyz = [[0.0; 3], [3.0, 0.0, 0.0], [8.0, 0.0, 0.0], [14.0, 0.0, 0.0]];
+    let m = Morphology::from_arrays(
+        &ids,
+        &[1, 3, 3, 3],
+        &xyz,
+        &[1.0, 2.5, 2.5, 2.0],
+        &[-1, 1, 2, 3],
+    )
+    .expect("valid");
+    assert_cell(&m, 0.03, "thick neurite");
+}
+
+/// Every real file: closed, manifold, outward; one component per tree plus one
+/// per junction that had to be left detached (so nothing else is loose).
+#[test]
+fn every_real_file_is_one_surface_per_tree() {
+    for f in common::real_files() {
+        let m = Morphology::from_swc(&f).expect("reads");
+        let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
+        let r = mesh.view().check_topology();
+        let what = f.display();
+        assert!(
+            r.is_closed() && r.is_manifold() && r.is_outward(),
+            "{what}\n{r}"
+        );
+        assert_eq!(
+            r.components,
+            m.trees().len() + mesh.stats.junctions_detached as usize,
+            "{what}: {:?}",
+            mesh.stats
+        );
+    }
+}
