@@ -19,6 +19,7 @@ use std::collections::HashMap;
 
 use crate::bvh::{Aabb, Bvh};
 use crate::geom;
+use crate::measures::SkeletonMeasures;
 use crate::mesh::{BuildStats, Mesh, MeshView, cross, norm, sub};
 use crate::morphology::{Morphology, NO_PARENT};
 
@@ -64,6 +65,12 @@ pub struct MeshReport {
     pub construction_intersections: Option<usize>,
     /// Of those, pairs where the skeleton itself overlaps (only with a morphology).
     pub skeleton_overlaps: Option<usize>,
+    /// Area of the faces whose vertices all belong to a soma (only with a
+    /// morphology).
+    pub soma_area: Option<f64>,
+    /// The skeleton's own measures (only with a morphology): NeuroMorpho.Org
+    /// style and the union of round cones.
+    pub skeleton: Option<SkeletonMeasures>,
     /// Up to [`MAX_LISTED_PAIRS`] intersecting face pairs, smallest first.
     pub intersecting_pairs: Vec<[u32; 2]>,
     /// How the mesh was built (zeros for meshes read from files).
@@ -114,7 +121,8 @@ impl MeshReport {
                 "\"nonmanifold_vertices\":{},\"unreferenced_vertices\":{},\"degenerate_faces\":{},",
                 "\"duplicate_faces\":{},\"components\":{},\"inward_components\":{},",
                 "\"euler_characteristic\":{},\"area\":{},\"volume\":{},\"self_intersections\":{},",
-                "\"construction_intersections\":{},\"skeleton_overlaps\":{},\"intersecting_pairs\":[{}],",
+                "\"construction_intersections\":{},\"skeleton_overlaps\":{},\"soma_area\":{},\"skeleton\":{},",
+                "\"intersecting_pairs\":[{}],",
                 "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
                 "\"junctions_detached\":{},\"soma_trunks\":{}}}}}"
@@ -141,6 +149,15 @@ impl MeshReport {
             self.self_intersections,
             opt(self.construction_intersections),
             opt(self.skeleton_overlaps),
+            self.soma_area.map_or("null".to_owned(), json_f64),
+            self.skeleton.map_or("null".to_owned(), |k| format!(
+                "{{\"soma_surface\":{},\"total_surface\":{},\"total_volume\":{},\"union_area\":{},\"union_volume\":{}}}",
+                json_f64(k.soma_surface),
+                json_f64(k.total_surface),
+                json_f64(k.total_volume),
+                k.union.map_or("null".to_owned(), |u| json_f64(u.area)),
+                k.union.map_or("null".to_owned(), |u| json_f64(u.volume))
+            )),
             pairs.join(","),
             s.branches,
             s.branches_hidden,
@@ -201,6 +218,27 @@ impl std::fmt::Display for MeshReport {
         }
         writeln!(f, "area                  {:.6}", self.area)?;
         writeln!(f, "volume                {:.6}", self.volume)?;
+        if let Some(a) = self.soma_area {
+            writeln!(f, "soma area             {a:.6}")?;
+        }
+        if let Some(k) = self.skeleton {
+            let rel = |a: f64, b: f64| 100.0 * (a / b - 1.0);
+            if let Some(u) = k.union {
+                writeln!(
+                    f,
+                    "union of round cones  area {:.6} (mesh {:+.2} %), volume {:.6} (mesh {:+.2} %)",
+                    u.area,
+                    rel(self.area, u.area),
+                    u.volume,
+                    rel(self.volume, u.volume)
+                )?;
+            }
+            writeln!(
+                f,
+                "NeuroMorpho-style     soma surface {:.6}, total surface {:.6}, total volume {:.6}",
+                k.soma_surface, k.total_surface, k.total_volume
+            )?;
+        }
         let s = &self.stats;
         if s.branches > 0 {
             writeln!(
@@ -263,6 +301,18 @@ impl MeshView<'_> {
                 .count();
             r.skeleton_overlaps = Some(skeleton);
             r.construction_intersections = Some(pairs.len() - skeleton);
+            let soma = m.soma_mask();
+            let in_soma = |v: u32| {
+                let s = self.vertex_sample[v as usize] as usize;
+                s < soma.len() && soma[s]
+            };
+            r.soma_area = Some(
+                (0..self.faces.len())
+                    .filter(|&f| self.faces[f].iter().all(|&v| in_soma(v)))
+                    .map(|f| self.face_area(f))
+                    .sum(),
+            );
+            r.skeleton = Some(SkeletonMeasures::with_union(m));
         }
         r
     }

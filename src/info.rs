@@ -6,6 +6,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
+use crate::measures::SkeletonMeasures;
 use crate::morphology::{Cleaning, Morphology, SomaKind};
 
 /// Facts about a morphology.
@@ -39,9 +40,21 @@ pub struct Summary {
     pub cleaning: Cleaning,
     /// Comment lines in the file.
     pub comment_lines: usize,
+    /// Surface and volume from the skeleton (NeuroMorpho.Org style and the
+    /// union of round cones).
+    pub measures: SkeletonMeasures,
 }
 
 impl Summary {
+    /// Summarises `m`, with the union of round cones measured too (see
+    /// [`SkeletonMeasures::with_union`] for its cost).
+    pub fn with_union(m: &Morphology) -> Summary {
+        Summary {
+            measures: SkeletonMeasures::with_union(m),
+            ..Summary::of(m)
+        }
+    }
+
     /// Summarises `m`.
     pub fn of(m: &Morphology) -> Summary {
         let mut types = BTreeMap::new();
@@ -92,6 +105,7 @@ impl Summary {
             bbox: (lo, hi),
             cleaning: m.cleaning(),
             comment_lines: m.comment_lines(),
+            measures: SkeletonMeasures::of(m),
         }
     }
 
@@ -122,7 +136,9 @@ impl Summary {
                 "\"cable_length\":{},\"radius_min\":{},\"radius_max\":{},",
                 "\"bbox\":[[{},{},{}],[{},{},{}]],\"comment_lines\":{},",
                 "\"cleaning\":{{\"duplicates_merged\":{},\"zero_radii\":{},\"negative_radii\":{},",
-                "\"radii_from_neighbours\":{},\"radii_from_default\":{},\"soma_radius_fallbacks\":{}}}}}"
+                "\"radii_from_neighbours\":{},\"radii_from_default\":{},\"soma_radius_fallbacks\":{}}},",
+                "\"measures\":{{\"soma_surface\":{},\"total_surface\":{},\"total_volume\":{},",
+                "\"union_area\":{},\"union_volume\":{}}}}}"
             ),
             json_string(&self.name),
             self.samples,
@@ -149,6 +165,15 @@ impl Summary {
             c.radii_from_neighbours,
             c.radii_from_default,
             c.soma_radius_fallbacks,
+            self.measures.soma_surface,
+            self.measures.total_surface,
+            self.measures.total_volume,
+            self.measures
+                .union
+                .map_or("null".to_owned(), |u| u.area.to_string()),
+            self.measures
+                .union
+                .map_or("null".to_owned(), |u| u.volume.to_string()),
         )
     }
 }
@@ -216,6 +241,24 @@ impl fmt::Display for Summary {
             "bounding box    ({:.3}, {:.3}, {:.3}) .. ({:.3}, {:.3}, {:.3})",
             lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
         )?;
+        let k = &self.measures;
+        writeln!(
+            f,
+            "surface         {:.3} (soma {:.3}; NeuroMorpho style: compartments as cylinders)",
+            k.total_surface, k.soma_surface
+        )?;
+        writeln!(
+            f,
+            "volume          {:.3} (NeuroMorpho style)",
+            k.total_volume
+        )?;
+        if let Some(u) = k.union {
+            writeln!(
+                f,
+                "round cones     area {:.3}, volume {:.3} (their union, soma as one sphere)",
+                u.area, u.volume
+            )?;
+        }
         let c = &self.cleaning;
         write!(
             f,

@@ -27,6 +27,7 @@ pub mod grid;
 pub mod hash;
 pub mod info;
 pub mod io;
+pub mod measures;
 pub mod mesh;
 pub mod mesher;
 pub mod morphology;

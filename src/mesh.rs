@@ -216,13 +216,13 @@ impl MeshView<'_> {
 
     /// Total surface area.
     pub fn area(&self) -> f64 {
-        let c = self.center();
-        (0..self.faces.len())
-            .map(|f| {
-                let [a, b, d] = self.triangle(f, c);
-                0.5 * norm(cross(sub(b, a), sub(d, a)))
-            })
-            .sum()
+        (0..self.faces.len()).map(|f| self.face_area(f)).sum()
+    }
+
+    /// Area of face `f`.
+    pub fn face_area(&self, f: usize) -> f64 {
+        let [a, b, d] = self.triangle(f, [0.0; 3]);
+        0.5 * norm(cross(sub(b, a), sub(d, a)))
     }
 
     /// Signed enclosed volume.

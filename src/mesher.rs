@@ -164,8 +164,14 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
         let anchor = geometry.pos[b.samples[0] as usize];
         let start = starts[id as usize].unwrap_or(0);
+        // A trunk's vertices carry neurite samples, never the soma's: the soma
+        // sample is only where the trunk's track begins.
+        let mut labels = b.samples.clone();
+        if matches!(b.attachment, Attachment::Soma { .. }) && labels.len() > 1 {
+            labels[0] = labels[1];
+        }
         let (tubes, skipped) =
-            piece::build_pieces(&mut surface, track, &b.samples, id, start, anchor, caps);
+            piece::build_pieces(&mut surface, track, &labels, id, start, anchor, caps);
         (surface, tubes, skipped)
     });
     let mut surface = Surface::with_capacity(built.iter().map(|(s, _, _)| s.pos.len()).sum());

@@ -506,6 +506,20 @@ fn report_dict<'py>(py: Python<'py>, r: &MeshReport) -> PyResult<Bound<'py, PyDi
     d.set_item("self_intersections", r.self_intersections)?;
     d.set_item("construction_intersections", r.construction_intersections)?;
     d.set_item("skeleton_overlaps", r.skeleton_overlaps)?;
+    d.set_item("soma_area", r.soma_area)?;
+    let skeleton = match r.skeleton {
+        Some(k) => {
+            let m = PyDict::new(py);
+            m.set_item("soma_surface", k.soma_surface)?;
+            m.set_item("total_surface", k.total_surface)?;
+            m.set_item("total_volume", k.total_volume)?;
+            m.set_item("union_area", k.union.map(|u| u.area))?;
+            m.set_item("union_volume", k.union.map(|u| u.volume))?;
+            Some(m)
+        }
+        None => None,
+    };
+    d.set_item("skeleton", skeleton)?;
     let pairs: Vec<(u32, u32)> = r.intersecting_pairs.iter().map(|p| (p[0], p[1])).collect();
     d.set_item("intersecting_pairs", pairs)?;
     d.set_item("closed", r.is_closed())?;

@@ -5,7 +5,7 @@
 //! The reference area and volume are those of the exact union of the
 //! skeleton's round cones with the soma as one sphere, integrated by seeded
 //! Monte Carlo over each primitive's surface and volume
-//! ([`neuromesh::union`], standard error about 0.1 %).
+//! ([`neuromesh::union`], standard error about 0.2 %).
 
 mod common;
 

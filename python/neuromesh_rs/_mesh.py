@@ -49,6 +49,8 @@ class MeshReport:
     self_intersections: int
     construction_intersections: int | None
     skeleton_overlaps: int | None
+    soma_area: float | None
+    skeleton: dict[str, float] | None
     intersecting_pairs: list[tuple[int, int]]
     closed: bool
     manifold: bool

@@ -49,6 +49,10 @@ enum Cmd {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Also measure the union of the round cones (area and volume a
+        /// membrane mesh should match; slower).
+        #[arg(long)]
+        union: bool,
     },
     /// Check any OBJ, PLY or STL mesh for defects.
     Check {
@@ -109,9 +113,13 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Cmd::Info { input, json } => {
+        Cmd::Info { input, json, union } => {
             let m = Morphology::from_swc(&input)?;
-            let s = Summary::of(&m);
+            let s = if union {
+                Summary::with_union(&m)
+            } else {
+                Summary::of(&m)
+            };
             if json {
                 println!("{}", s.to_json());
             } else {
