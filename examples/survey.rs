@@ -46,7 +46,10 @@ fn main() {
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
         let ms = t.elapsed().as_secs_f64() * 1e3;
         let r = mesh.check_with(&m);
-        let u = neuromesh::union::measure_morphology(&m);
+        let u = r
+            .skeleton
+            .and_then(|k| k.union)
+            .expect("check_with measures the union");
         let bad = r.boundary_edges
             + r.nonmanifold_edges
             + r.nonmanifold_vertices
