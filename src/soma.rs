@@ -170,7 +170,7 @@ fn build_unchecked(
 ) -> Result<(), &'static str> {
     let (c, r) = (sphere.center, sphere.radius);
     let delta = spacing / r;
-    // Footprints: where each ring's hull with the sphere touches it.
+    // Footprints: each ring projected onto the sphere.
     let loops: Vec<Vec<DVec3>> = rings
         .iter()
         .map(|ring| {

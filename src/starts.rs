@@ -116,14 +116,11 @@ fn plan_soma(
         .copied()
         .filter(|&i| out.start[i].is_some())
         .collect();
-    let first_radius: Vec<f64> = order
-        .iter()
-        .map(|&i| tracks[i].radii[out.start[i].unwrap_or(0)])
-        .collect();
-    let mut by_radius: Vec<(usize, f64)> = order.iter().copied().zip(first_radius).collect();
-    by_radius.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    order = by_radius.iter().map(|p| p.0).collect();
-    let radius_at = |i: usize| by_radius.iter().find(|p| p.0 == i).map_or(0.0, |p| p.1);
+    let mut first_radius = vec![0.0; tracks.len()];
+    for &i in &order {
+        first_radius[i] = tracks[i].radii[out.start[i].unwrap_or(0)];
+    }
+    order.sort_by(|&a, &b| first_radius[b].total_cmp(&first_radius[a]).then(a.cmp(&b)));
     let mut kept: Vec<(usize, Footprint)> = Vec::new();
     let mut placed: Vec<usize> = Vec::new();
     for &i in &order {
@@ -141,7 +138,8 @@ fn plan_soma(
             kept.push((i, print));
         } else {
             // Clear of the sphere and of every trunk placed so far.
-            let reach = 8.0 * (radius_at(i) + t.radii.iter().take(8).copied().fold(0.0, f64::max));
+            let reach =
+                8.0 * (first_radius[i] + t.radii.iter().take(8).copied().fold(0.0, f64::max));
             let mut cones = index.near(tracks, t.samples[k].pos, reach + s.radius, |b| {
                 placed.contains(&(b as usize))
             });

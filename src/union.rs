@@ -23,7 +23,7 @@
 
 use glam::DVec3;
 
-use crate::hash::FastMap;
+use crate::bvh::{Aabb, Bvh};
 use crate::morphology::{Morphology, NO_PARENT};
 
 /// A round cone; a sphere when `a == b` (or when one end's sphere contains
@@ -134,9 +134,12 @@ impl RoundCone {
         )
     }
 
-    fn bounds(&self) -> (DVec3, DVec3) {
+    fn aabb(&self) -> Aabb {
         let r = DVec3::splat(self.ra.max(self.rb));
-        (self.a.min(self.b) - r, self.a.max(self.b) + r)
+        Aabb::of(&[
+            (self.a.min(self.b) - r).to_array(),
+            (self.a.max(self.b) + r).to_array(),
+        ])
     }
 }
 
@@ -181,7 +184,9 @@ pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
     if cones.is_empty() {
         return UnionMeasures::default();
     }
-    let grid = Grid::new(&cones);
+    // Which primitives may contain a point of a given one: box overlaps.
+    let boxes: Vec<Aabb> = cones.iter().map(RoundCone::aabb).collect();
+    let bvh = Bvh::new(boxes.clone());
     let parts: Vec<([f64; 3], f64, f64)> = cones.iter().map(RoundCone::parts).collect();
     let total_area: f64 = parts.iter().map(|p| p.0.iter().sum::<f64>()).sum();
     let total_volume: f64 = parts.iter().map(|p| p.1).sum();
@@ -197,8 +202,11 @@ pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
         let (areas, volume, sin) = parts[i];
         let (e1, e2, u, d) = frame(c);
         let mut near = Vec::new();
-        grid.candidates(c, &mut near);
-        near.retain(|&j| j as usize != i);
+        bvh.for_each_overlap(&boxes[i], |j| {
+            if j as usize != i {
+                near.push(j);
+            }
+        });
         // Area: each part sampled in proportion to its area.
         let mut area = 0.0;
         for (part, &a_part) in areas.iter().enumerate() {
@@ -292,83 +300,6 @@ fn surface_point(
             let (xa, xb) = (c.ra * sin, d + c.rb * sin);
             c.a + u * (xa + s * (xb - xa)) + around * (pa + s * (pb - pa))
         }
-    }
-}
-
-/// Uniform grid of the primitives' bounding boxes, to list the primitives that
-/// may contain a point of a given one.
-struct Grid {
-    cell: f64,
-    cells: FastMap<[i64; 3], Vec<u32>>,
-    large: Vec<u32>,
-}
-
-impl Grid {
-    fn new(cones: &[RoundCone]) -> Grid {
-        let mut sizes: Vec<f64> = cones
-            .iter()
-            .map(|c| {
-                let (lo, hi) = c.bounds();
-                (hi - lo).max_element()
-            })
-            .collect();
-        sizes.sort_by(f64::total_cmp);
-        let cell = sizes[sizes.len() / 2].max(1e-300);
-        let mut g = Grid {
-            cell,
-            cells: FastMap::default(),
-            large: Vec::new(),
-        };
-        for (i, c) in cones.iter().enumerate() {
-            let (lo, hi) = g.range(c);
-            let n = (hi - lo + 1).as_dvec3();
-            if n.x * n.y * n.z > 64.0 {
-                g.large.push(i as u32);
-                continue;
-            }
-            for x in lo.x..=hi.x {
-                for y in lo.y..=hi.y {
-                    for z in lo.z..=hi.z {
-                        g.cells.entry([x, y, z]).or_default().push(i as u32);
-                    }
-                }
-            }
-        }
-        g
-    }
-
-    fn range(&self, c: &RoundCone) -> (glam::I64Vec3, glam::I64Vec3) {
-        let (lo, hi) = c.bounds();
-        (
-            (lo / self.cell).floor().as_i64vec3(),
-            (hi / self.cell).floor().as_i64vec3(),
-        )
-    }
-
-    /// Primitives whose cells meet `c`'s bounding box (a superset of those
-    /// that overlap it), sorted and without repeats.
-    fn candidates(&self, c: &RoundCone, out: &mut Vec<u32>) {
-        out.clear();
-        out.extend_from_slice(&self.large);
-        let (lo, hi) = self.range(c);
-        let n = (hi - lo + 1).as_dvec3();
-        if n.x * n.y * n.z > self.cells.len() as f64 {
-            for ids in self.cells.values() {
-                out.extend_from_slice(ids);
-            }
-        } else {
-            for x in lo.x..=hi.x {
-                for y in lo.y..=hi.y {
-                    for z in lo.z..=hi.z {
-                        if let Some(ids) = self.cells.get(&[x, y, z]) {
-                            out.extend_from_slice(ids);
-                        }
-                    }
-                }
-            }
-        }
-        out.sort_unstable();
-        out.dedup();
     }
 }
 

@@ -1,8 +1,7 @@
 //! Issue 4: splicing. Junctions of every hard kind, and random trees with
 //! multifurcations, give one closed surface per tree (plus one per junction
-//! the report counts as detached).
-
-mod common;
+//! the report counts as detached). The real files are covered by
+//! `tests/soma.rs`, which checks every one of them the same way.
 
 use neuromesh::{Mesh, MeshReport, Morphology, Params};
 use proptest::prelude::*;
@@ -129,30 +128,6 @@ fn a_fork_at_the_last_sample_and_a_zero_length_segment() {
         (2, [20.0, -4.0, 0.0], 0.7),
     ]);
     assert_spliced(&m, "fork at the end");
-}
-
-/// Every file without a soma: one surface per tree (plus detached junctions).
-#[test]
-fn every_real_file_without_a_soma_is_one_surface_per_tree() {
-    for f in common::real_files() {
-        let m = Morphology::from_swc(&f).expect("reads");
-        if m.trees().iter().any(|t| t.soma.is_some()) {
-            continue;
-        }
-        let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
-        let r = mesh.view().check_topology();
-        assert!(
-            r.is_closed() && r.is_manifold() && r.is_outward(),
-            "{}\n{r}",
-            f.display()
-        );
-        assert_eq!(
-            r.components,
-            m.trees().len() + mesh.stats.junctions_detached as usize,
-            "{}",
-            f.display()
-        );
-    }
 }
 
 /// Random trees: up to 5 children per branch point, directions anywhere
