@@ -69,8 +69,9 @@ const MAX_SECTION_VERTICES: f64 = 96.0;
 /// The sphere radius that gives an inscribed triangulation at angular spacing
 /// `delta` about the area and volume of a sphere of radius `r`: flat
 /// triangles between points on the sphere cut off a shell whose relative
-/// thickness grows as `delta²`. The constant was fitted to Fibonacci spheres
-/// of 200 to 20,000 points (area and volume errors under 0.3 %).
+/// thickness grows as `delta²`. Measured on the soma alone over the allowed
+/// spacings (24- to 96-gon sections, 215 to 3,391 points): area within
+/// +0.04 %, volume from −0.54 % (coarsest) to −0.03 % (finest).
 pub fn mesh_radius(r: f64, delta: f64) -> f64 {
     r * (1.0 + 0.11 * delta * delta)
 }
