@@ -66,6 +66,12 @@ impl Aabb {
         }
     }
 
+    /// Whether `o` lies wholly inside this box.
+    #[inline]
+    pub fn contains(&self, o: &Aabb) -> bool {
+        (0..3).all(|a| self.lo[a] <= o.lo[a] && o.hi[a] <= self.hi[a])
+    }
+
     /// Whether the closed boxes overlap.
     #[inline]
     pub fn overlaps(&self, o: &Aabb) -> bool {

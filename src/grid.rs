@@ -11,6 +11,13 @@
 //! times coarser hold anything), so a query over a large, mostly empty box
 //! descends only into occupied regions instead of probing every fine cell.
 //! Removal is lazy: dead triangles stay in the cells and callers skip them.
+//!
+//! The grid holds *items*, runs of consecutive triangle indices. The surface
+//! is built band by band, so [`CHUNK`] consecutive triangles lie side by side;
+//! indexing them as one box makes building the index over a whole cell 10-20x
+//! cheaper (it was a third of the mesh time) for a small cost per query, which
+//! tests each triangle of a visited run against the query box. Triangles added
+//! later are items of one.
 
 use glam::DVec3;
 
@@ -22,6 +29,8 @@ use crate::surface::Surface;
 const PYRAMID: usize = 3;
 /// A query enumerates at most about this many cells at any one scale.
 const CELL_BUDGET: i64 = 512;
+/// Consecutive triangles indexed as one item when the grid is built.
+const CHUNK: u32 = 16;
 
 /// One level of the grid: its cells and the occupancy of coarser cells.
 #[derive(Debug, Clone, Default)]
@@ -36,6 +45,11 @@ struct Level {
 pub struct TriangleGrid {
     base: f64,
     levels: Vec<Level>,
+    /// Item `i` is the triangles `items[i][0]..items[i][1]`.
+    items: Vec<[u32; 2]>,
+    /// The box of each item's triangles (when the item was added).
+    boxes: Vec<Aabb>,
+    /// Per item: the query that last visited it.
     stamp: Vec<u32>,
     epoch: u32,
 }
@@ -68,13 +82,26 @@ impl TriangleGrid {
         let mut g = TriangleGrid {
             base,
             levels: Vec::new(),
+            items: Vec::new(),
+            boxes: Vec::new(),
             stamp: Vec::new(),
             epoch: 0,
         };
-        g.stamp = vec![0; surface.tris.len()];
-        for t in 0..surface.tris.len() as u32 {
-            if surface.alive[t as usize] && keep(&tri_box(surface, t)) {
-                g.insert(surface, t);
+        let n = surface.tris.len() as u32;
+        for first in (0..n).step_by(CHUNK as usize) {
+            let end = (first + CHUNK).min(n);
+            let Some(b) = (first..end)
+                .filter(|&t| surface.alive[t as usize])
+                .map(|t| tri_box(surface, t))
+                .reduce(|mut a, b| {
+                    a.add(&b);
+                    a
+                })
+            else {
+                continue;
+            };
+            if keep(&b) {
+                g.add_item(first, end, &b);
             }
         }
         g
@@ -104,12 +131,19 @@ impl TriangleGrid {
 
     /// Adds triangle `t` of `surface`.
     pub fn insert(&mut self, surface: &Surface, t: u32) {
-        let b = tri_box(surface, t);
-        let level = self.level_of(&b);
+        self.add_item(t, t + 1, &tri_box(surface, t));
+    }
+
+    fn add_item(&mut self, first: u32, end: u32, b: &Aabb) {
+        let item = self.items.len() as u32;
+        self.items.push([first, end]);
+        self.boxes.push(*b);
+        self.stamp.push(0);
+        let level = self.level_of(b);
         while self.levels.len() <= level {
             self.levels.push(Level::default());
         }
-        let (lo, hi) = self.cell_range(&b, level);
+        let (lo, hi) = self.cell_range(b, level);
         let lv = &mut self.levels[level];
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
@@ -121,12 +155,9 @@ impl TriangleGrid {
                             lv.occupied[s].insert(coarser(key, s + 1));
                         }
                     }
-                    cell.push(t);
+                    cell.push(item);
                 }
             }
-        }
-        if self.stamp.len() <= t as usize {
-            self.stamp.resize(t as usize + 1, 0);
         }
     }
 
@@ -138,14 +169,24 @@ impl TriangleGrid {
             self.epoch = 1;
         }
         let epoch = self.epoch;
-        let mut visit = |t: u32, stamp: &mut Vec<u32>| {
-            let slot = &mut stamp[t as usize];
-            if *slot == epoch || !surface.alive[t as usize] {
+        let (items, boxes) = (&self.items, &self.boxes);
+        let mut visit = |item: u32, stamp: &mut Vec<u32>| {
+            let slot = &mut stamp[item as usize];
+            if *slot == epoch {
                 return;
             }
             *slot = epoch;
-            if tri_box(surface, t).overlaps(query) {
-                f(t);
+            let b = &boxes[item as usize];
+            if !b.overlaps(query) {
+                return;
+            }
+            // A run wholly inside the query needs no test per triangle.
+            let all = query.contains(b);
+            let [first, end] = items[item as usize];
+            for t in first..end {
+                if surface.alive[t as usize] && (all || tri_box(surface, t).overlaps(query)) {
+                    f(t);
+                }
             }
         };
         let mut keys: Vec<[i64; 3]> = Vec::new();

@@ -17,6 +17,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod batch;
 pub mod branch;
 pub mod bvh;
 pub mod check;

@@ -444,10 +444,22 @@ impl<'a> Splicer<'a> {
         let pad = 2.0 * rho;
         let ext = extent(&tri_box(self.surface, target));
         let query = Aabb::of(&[h.to_array()]).inflated(pad + 2.0 * ext);
-        let mut near: Vec<u32> = Vec::new();
-        self.grid
-            .for_each_near(self.surface, &query, |t| near.push(t));
-        // Local edge → triangles map.
+        let inside = |t: u32, s: &Surface| -> bool {
+            let f = s.tris[t as usize];
+            let c = (s.pos[f[0] as usize] + s.pos[f[1] as usize] + s.pos[f[2] as usize]) / 3.0;
+            let d = c - h;
+            let perp = (d - d.dot(axis) * axis).length();
+            perp <= rho && tri_normal(s, t).dot(axis) > 0.1
+        };
+        // Q only ever grows into `inside` triangles, so only they (and the
+        // target) need to be in the local edge → triangles map.
+        let mut near: Vec<u32> = vec![target];
+        let surface = &*self.surface;
+        self.grid.for_each_near(surface, &query, |t| {
+            if t != target && inside(t, surface) {
+                near.push(t);
+            }
+        });
         let mut edges: crate::hash::FastMap<(u32, u32), [u32; 2]> = crate::hash::FastMap::default();
         for &t in &near {
             let f = self.surface.tris[t as usize];
@@ -462,13 +474,6 @@ impl<'a> Splicer<'a> {
                 }
             }
         }
-        let inside = |t: u32, s: &Surface| -> bool {
-            let f = s.tris[t as usize];
-            let c = (s.pos[f[0] as usize] + s.pos[f[1] as usize] + s.pos[f[2] as usize]) / 3.0;
-            let d = c - h;
-            let perp = (d - d.dot(axis) * axis).length();
-            perp <= rho && tri_normal(s, t).dot(axis) > 0.1
-        };
         let mut q = vec![target];
         let mut in_q: crate::hash::FastSet<u32> = crate::hash::FastSet::default();
         in_q.insert(target);
@@ -489,10 +494,8 @@ impl<'a> Splicer<'a> {
                     if self.reserved[n as usize] || self.owner[n as usize] == tube_id {
                         continue;
                     }
-                    if inside(n, self.surface) {
-                        in_q.insert(n);
-                        q.push(n);
-                    }
+                    in_q.insert(n);
+                    q.push(n);
                 }
             }
         }
@@ -544,14 +547,27 @@ impl<'a> Splicer<'a> {
             return Err("bridge is not manifold with its surroundings");
         }
         let pos = |t: u32, s: &Surface| s.tris[t as usize].map(|k| s.pos[k as usize].to_array());
+        // Sweep along x: the live neighbours sorted by their boxes' low x, so
+        // each bridge triangle visits only those whose x-range can meet its own.
+        let mut others: Vec<(Aabb, u32)> = near
+            .iter()
+            .filter(|&&o| self.surface.alive[o as usize])
+            .map(|&o| (tri_box(self.surface, o), o))
+            .collect();
+        others.sort_unstable_by(|a, b| a.0.lo[0].total_cmp(&b.0.lo[0]).then(a.1.cmp(&b.1)));
+        let width = others
+            .iter()
+            .map(|(b, _)| b.hi[0] - b.lo[0])
+            .fold(0.0, f64::max);
         for t in first..n {
             let (ft, pt) = (self.surface.tris[t as usize], pos(t, self.surface));
             let bt = tri_box(self.surface, t);
-            for &o in &near {
-                if o == t || (o >= first && o < t) || !self.surface.alive[o as usize] {
-                    continue;
+            let start = others.partition_point(|(b, _)| b.lo[0] < bt.lo[0] - width);
+            for &(bo, o) in &others[start..] {
+                if bo.lo[0] > bt.hi[0] {
+                    break;
                 }
-                if !bt.overlaps(&tri_box(self.surface, o)) {
+                if o == t || (o >= first && o < t) || !bt.overlaps(&bo) {
                     continue;
                 }
                 if crate::check::pair_intersects(

@@ -30,6 +30,7 @@ pub fn first_outside_from(
     from: usize,
     cones: &[(DVec3, DVec3, f64, f64)],
 ) -> Option<usize> {
+    let mut ring: Vec<DVec3> = Vec::new();
     (from..track.samples.len()).find(|&i| {
         let s = &track.samples[i];
         let r = track.radii[i];
@@ -37,17 +38,34 @@ pub fn first_outside_from(
         let u = track.frames[i];
         let v = s.tangent.cross(u);
         let m = track.counts[i];
+        ring.clear();
+        ring.extend((0..m).map(|j| {
+            let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
+            s.pos + r * (th.cos() * u + th.sin() * v)
+        }));
         !cones.iter().any(|&(a, b, ra, rb)| {
-            // A contour vertex inside the cone.
-            let vertex_inside = (0..m).any(|j| {
-                let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
-                let p = s.pos + r * (th.cos() * u + th.sin() * v);
-                inside_cone(p, a, b, ra, rb, margin)
-            });
-            // Or the cone's axis crossing the disc.
-            vertex_inside || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
+            // Neither test can pass when the disc's centre is farther from the
+            // cone's axis than the disc's radius plus the cone's.
+            let reach = r + ra.max(rb) + margin;
+            if point_segment_distance_sq(s.pos, a, b) >= reach * reach {
+                return false;
+            }
+            // A contour vertex inside the cone, or the cone's axis crossing the disc.
+            ring.iter().any(|&p| inside_cone(p, a, b, ra, rb, margin))
+                || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
         })
     })
+}
+
+fn point_segment_distance_sq(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance_squared(a + ab * t)
 }
 
 fn inside_cone(p: DVec3, a: DVec3, b: DVec3, ra: f64, rb: f64, margin: f64) -> bool {

@@ -1,8 +1,11 @@
 //! The `neuromesh` command line: a thin translation of flags into library calls.
 //!
 //! Exit codes: 0 on success, 1 with `error: FILE:LINE: reason` on stderr for bad
-//! input or a failed write, 2 for usage errors (clap), 3 when `check --strict`
-//! finds a defect or `batch` could not mesh every file.
+//! input or a failed write (for `batch`: when any file failed, after meshing all
+//! the others), 2 for usage errors (clap), 3 when `check --strict` finds a
+//! defect.
+
+mod batch;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -37,6 +40,30 @@ enum Cmd {
         #[arg(long)]
         check: bool,
         /// Print nothing on success.
+        #[arg(short, long)]
+        quiet: bool,
+        #[command(flatten)]
+        params: Params,
+    },
+    /// Mesh many SWC files in parallel into a folder.
+    ///
+    /// Goes on past a bad file, shows a progress bar on a terminal, and ends
+    /// with a summary; exits with 1 if any file failed.
+    Batch {
+        /// SWC files, folders (their *.swc files) or quoted patterns such as
+        /// 'cells/*.swc'.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Output folder (created if missing); each mesh is named after its SWC file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Output format.
+        #[arg(long, default_value = "ply", value_parser = ["obj", "ply", "stl"])]
+        format: String,
+        /// Files meshed at once (default: one per core).
+        #[arg(short = 'j', long)]
+        jobs: Option<usize>,
+        /// No progress bar; errors and the summary only.
         #[arg(short, long)]
         quiet: bool,
         #[command(flatten)]
@@ -113,6 +140,14 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
+        Cmd::Batch {
+            inputs,
+            output,
+            format,
+            jobs,
+            quiet,
+            params,
+        } => batch::run(&inputs, &output, &format, jobs, quiet, &params),
         Cmd::Info { input, json, union } => {
             let m = Morphology::from_swc(&input)?;
             let s = if union {

@@ -1,0 +1,147 @@
+//! `neuromesh batch`: many files in parallel, a progress bar on a terminal, and
+//! a summary at the end.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use neuromesh::{Error, Params, batch, io};
+
+/// What one successful file gave.
+struct Written {
+    triangles: usize,
+}
+
+pub fn run(
+    inputs: &[PathBuf],
+    out_dir: &Path,
+    format: &str,
+    jobs: Option<usize>,
+    quiet: bool,
+    params: &Params,
+) -> Result<ExitCode, Error> {
+    params.validate()?;
+    let format = io::Format::from_extension(format).ok_or_else(|| Error::InvalidParam {
+        name: "format",
+        reason: format!("unknown format {format:?} (obj, ply or stl)"),
+    })?;
+    let files = batch::expand_inputs(inputs)?;
+    let outputs = batch::output_paths(&files, out_dir, format.extension())?;
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let target: std::collections::HashMap<&Path, &Path> = files
+        .iter()
+        .map(PathBuf::as_path)
+        .zip(outputs.iter().map(PathBuf::as_path))
+        .collect();
+
+    let bar =
+        (!quiet && std::io::stderr().is_terminal()).then(|| Mutex::new(Bar::new(files.len())));
+    let start = Instant::now();
+    let outcomes = batch::run(
+        &files,
+        jobs,
+        |input| {
+            let mesh = neuromesh::mesh_swc(input, params)?;
+            io::write_as(target[input], &mesh, format)?;
+            Ok(Written {
+                triangles: mesh.faces.len(),
+            })
+        },
+        |done, outcome| {
+            if let Some(bar) = &bar {
+                let mut bar = bar
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                if outcome.result.is_err() {
+                    bar.failed += 1;
+                }
+                bar.draw(done, &outcome.input);
+            }
+        },
+    )?;
+    if let Some(bar) = &bar {
+        bar.lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clear();
+    }
+    let wall = start.elapsed().as_secs_f64();
+
+    let mut failed = 0;
+    let (mut triangles, mut busy) = (0usize, 0.0);
+    for o in &outcomes {
+        busy += o.seconds;
+        match &o.result {
+            Ok(w) => triangles += w.triangles,
+            Err(e) => {
+                failed += 1;
+                eprintln!("error: {e}");
+            }
+        }
+    }
+    let threads = jobs.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    let done = outcomes.len() - failed;
+    println!(
+        "files      {} ({done} meshed, {failed} failed)",
+        outcomes.len()
+    );
+    println!("output     {}/*.{}", out_dir.display(), format.extension());
+    println!(
+        "triangles  {triangles} ({:.2} M/s)",
+        triangles as f64 / wall.max(1e-9) / 1e6
+    );
+    println!(
+        "time       {wall:.2} s wall, {busy:.2} s summed over files, {threads} thread{}",
+        if threads == 1 { "" } else { "s" }
+    );
+    if failed > 0 {
+        println!("failed     {failed} (reasons above)");
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A one-line progress bar on standard error.
+struct Bar {
+    total: usize,
+    failed: usize,
+    start: Instant,
+}
+
+impl Bar {
+    fn new(total: usize) -> Bar {
+        Bar {
+            total,
+            failed: 0,
+            start: Instant::now(),
+        }
+    }
+
+    fn draw(&self, done: usize, last: &Path) {
+        const WIDTH: usize = 30;
+        let filled = WIDTH * done / self.total.max(1);
+        let name = last
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let mut err = std::io::stderr().lock();
+        let _ = write!(
+            err,
+            "\r\x1b[2K[{}{}] {done}/{} files, {} failed, {:.1} s  {name}",
+            "#".repeat(filled),
+            " ".repeat(WIDTH - filled),
+            self.total,
+            self.failed,
+            self.start.elapsed().as_secs_f64()
+        );
+        let _ = err.flush();
+    }
+
+    fn clear(&self) {
+        let mut err = std::io::stderr().lock();
+        let _ = write!(err, "\r\x1b[2K");
+        let _ = err.flush();
+    }
+}
