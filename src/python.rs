@@ -24,7 +24,7 @@ use pyo3::exceptions::{
 };
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use crate::check::MeshReport;
 use crate::mesh::{BuildStats, Mesh, MeshView};
@@ -432,6 +432,64 @@ fn mesh_swc_py(
     python_mesh(py, mesh)
 }
 
+/// Meshes many SWC files in parallel, detached from the interpreter; the
+/// results come back in input order, a failed file as its exception.
+#[pyfunction(name = "mesh_many")]
+#[pyo3(signature = (
+    paths, *, threads=None, return_exceptions=false, angle_threshold=DEFAULT_ANGLE_THRESHOLD,
+    k1=DEFAULT_K1, min_vertices=DEFAULT_MIN_VERTICES, max_vertices=DEFAULT_MAX_VERTICES,
+    cap_rings=DEFAULT_CAP_RINGS, resolution=DEFAULT_RESOLUTION, min_radius=DEFAULT_MIN_RADIUS,
+    scale=DEFAULT_SCALE
+))]
+#[pyo3(
+    text_signature = "(paths, *, threads=None, return_exceptions=False, angle_threshold=10.0, k1=1, min_vertices=12, max_vertices=64, cap_rings=3, resolution=1.0, min_radius=0.0, scale=1.0)"
+)]
+fn mesh_many_py(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    threads: Option<usize>,
+    return_exceptions: bool,
+    angle_threshold: f64,
+    k1: u32,
+    min_vertices: u32,
+    max_vertices: u32,
+    cap_rings: u32,
+    resolution: f64,
+    min_radius: f64,
+    scale: f64,
+) -> PyResult<Bound<'_, PyList>> {
+    let params = Params {
+        angle_threshold,
+        k1,
+        min_vertices,
+        max_vertices,
+        cap_rings,
+        resolution,
+        min_radius,
+        scale,
+    };
+    params.validate().map_err(to_py)?;
+    let outcomes = py
+        .detach(|| {
+            crate::batch::run(
+                &paths,
+                threads,
+                |path| crate::mesh_swc(path, &params),
+                |_, _| {},
+            )
+        })
+        .map_err(to_py)?;
+    let list = PyList::empty(py);
+    for outcome in outcomes {
+        match outcome.result {
+            Ok(mesh) => list.append(python_mesh(py, mesh)?)?,
+            Err(e) if return_exceptions => list.append(to_py(e).into_value(py))?,
+            Err(e) => return Err(to_py(e)),
+        }
+    }
+    Ok(list)
+}
+
 /// Borrows numpy mesh arrays as a [`MeshView`] (zero-copy) and validates it.
 fn view<'a>(
     vertices: &'a PyReadonlyArray2<'_, f32>,
@@ -581,7 +639,7 @@ mod native {
     #[pymodule_export]
     use super::{
         MeshError, MeshFileError, PyMorphology, SwcError, load_mesh_py, mesh_area_py,
-        mesh_check_py, mesh_save_py, mesh_swc_py, mesh_volume_py,
+        mesh_check_py, mesh_many_py, mesh_save_py, mesh_swc_py, mesh_volume_py,
     };
 
     #[pymodule_init]

@@ -215,3 +215,66 @@ fn help_lists_the_parameters() {
         );
     }
 }
+
+#[test]
+fn batch_goes_past_a_bad_file_and_output_does_not_depend_on_threads() {
+    let input = tmp("batch-in");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::copy("tests/data/y_bifurcation.swc", input.join("y.swc")).unwrap();
+    std::fs::copy(
+        "tests/data/real/rat_CA1_CCK_interneuron_cck7632.CNG.swc",
+        input.join("cck.SWC"),
+    )
+    .unwrap();
+    std::fs::write(input.join("bad.swc"), b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n").unwrap();
+    std::fs::write(input.join("notes.txt"), b"not an swc file").unwrap();
+    let mut outputs = Vec::new();
+    for jobs in ["1", "2"] {
+        let out_dir = tmp(&format!("batch-out-{jobs}"));
+        let out = neuromesh(&[
+            "batch",
+            input.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+            "-j",
+            jobs,
+        ]);
+        let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+        assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+        assert!(stderr.contains("bad.swc:2:"), "{stderr}");
+        assert!(stdout.contains("3 (2 meshed, 1 failed)"), "{stdout}");
+        // Piped: no progress bar.
+        assert!(!stderr.contains('\r'), "{stderr:?}");
+        let read = |name: &str| std::fs::read(out_dir.join(name)).expect(name);
+        assert!(!out_dir.join("bad.ply").exists());
+        assert!(!out_dir.join("notes.ply").exists());
+        outputs.push((read("y.ply"), read("cck.ply")));
+    }
+    assert!(
+        outputs[0] == outputs[1],
+        "output depends on the thread count"
+    );
+
+    // A pattern, another format, and success.
+    let out_dir = tmp("batch-out-obj");
+    let pattern = input.join("zz*.swc");
+    let out = neuromesh(&[
+        "batch",
+        input.join("y*").to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--format",
+        "obj",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out_dir.join("y.obj").exists());
+    assert!(text(&out.stdout).contains("1 (1 meshed, 0 failed)"));
+    // Nothing matched is an error before any work.
+    let out = neuromesh(&["batch", pattern.to_str().unwrap(), "-o", "x"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("matches no file"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -25,6 +25,7 @@ from ._native import Morphology as Morphology
 from ._native import SwcError as SwcError
 from ._native import __version__ as __version__
 from ._native import load_mesh as load_mesh
+from ._native import mesh_many as mesh_many
 from ._native import mesh_swc as mesh_swc
 
 __all__ = [
@@ -38,5 +39,6 @@ __all__ = [
     "SwcError",
     "__version__",
     "load_mesh",
+    "mesh_many",
     "mesh_swc",
 ]

@@ -1,6 +1,7 @@
 """Type stubs for the Rust extension ``neuromesh_rs._native`` (checked by mypy.stubtest)."""
 
 import os
+from collections.abc import Sequence
 from typing import Any, final
 
 import numpy as np
@@ -21,6 +22,7 @@ __all__ = [
     "_mesh_save",
     "_mesh_volume",
     "load_mesh",
+    "mesh_many",
     "mesh_swc",
 ]
 
@@ -123,6 +125,23 @@ def mesh_swc(
     scale: float = 1.0,
 ) -> Mesh:
     """Reads an SWC file and meshes it into a ``neuromesh_rs.Mesh``."""
+
+def mesh_many(
+    paths: Sequence[str | os.PathLike[str]],
+    *,
+    threads: int | None = None,
+    return_exceptions: bool = False,
+    angle_threshold: float = 10.0,
+    k1: int = 1,
+    min_vertices: int = 12,
+    max_vertices: int = 64,
+    cap_rings: int = 3,
+    resolution: float = 1.0,
+    min_radius: float = 0.0,
+    scale: float = 1.0,
+) -> list[Mesh | Exception]:
+    """Meshes many SWC files in parallel, detached from the interpreter; the
+    results come back in input order, a failed file as its exception."""
 
 def load_mesh(path: str | os.PathLike[str]) -> Mesh:
     """Reads an OBJ, PLY or STL file into a ``neuromesh_rs.Mesh``."""

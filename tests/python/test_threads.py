@@ -8,6 +8,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import neuromesh_rs
 
@@ -45,3 +46,34 @@ def test_gil_is_released_while_meshing(real_files: list[Path]) -> None:
         t.join(timeout=10)
     # At 1 ms per tick a thread holding the GIL for `elapsed` would allow ~0 ticks.
     assert ticks >= min(5, int(elapsed * 1000) // 4), (ticks, elapsed)
+
+
+def test_mesh_many_keeps_order_and_matches_mesh_swc(real_files: list[Path], y_swc: Path) -> None:
+    paths = [y_swc, *real_files[:3]]
+    one = neuromesh_rs.mesh_many(paths, threads=1)
+    two = neuromesh_rs.mesh_many(paths, threads=2)
+    assert len(one) == len(two) == len(paths)
+    for path, a, b in zip(paths, one, two):
+        ref = neuromesh_rs.mesh_swc(path)
+        for m in (a, b):
+            assert isinstance(m, neuromesh_rs.Mesh)
+            assert np.array_equal(m.vertices, ref.vertices)
+            assert np.array_equal(m.faces, ref.faces)
+
+
+def test_mesh_many_goes_past_a_bad_file(tmp_path: Path, y_swc: Path) -> None:
+    bad = tmp_path / "bad.swc"
+    bad.write_text("1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n")
+    missing = tmp_path / "missing.swc"
+    got = neuromesh_rs.mesh_many([y_swc, bad, missing, y_swc], return_exceptions=True)
+    assert isinstance(got[0], neuromesh_rs.Mesh) and isinstance(got[3], neuromesh_rs.Mesh)
+    assert isinstance(got[1], neuromesh_rs.SwcError)
+    assert got[1].line == 2
+    assert isinstance(got[2], FileNotFoundError)
+    # Without return_exceptions the first failure (in input order) is raised.
+    with pytest.raises(neuromesh_rs.SwcError):
+        neuromesh_rs.mesh_many([y_swc, bad, missing])
+    with pytest.raises(ValueError, match="threads"):
+        neuromesh_rs.mesh_many([y_swc], threads=0)
+    with pytest.raises(ValueError, match="min_vertices"):
+        neuromesh_rs.mesh_many([y_swc], min_vertices=3)
