@@ -1,22 +1,31 @@
-//! Criterion benchmarks of the pipeline stages on real files of several sizes.
+//! Criterion benchmarks of every pipeline stage, and end to end, on real files
+//! of several sizes from the repository's test data.
 //!
-//! Throughput is in samples (SWC points) per second; the triangle counts per
-//! file are printed once so triangles per second follow from the timings.
-//! Run with `cargo bench --bench pipeline`; results are recorded in
-//! `benches/README.md`.
+//! Stages: `parse` (SWC bytes to a cleaned morphology), `resample` (branch
+//! identification and Catmull-Rom tracks with their contour sizes), `tubes`
+//! (the whole tube stage: resampling, adaptive contours, contour connection,
+//! caps), `soma` (sphere point sets and their constrained Delaunay
+//! triangulations), `splice` (every junction), `write_obj` / `write_ply` (into
+//! memory), and `end_to_end` (file on disk to mesh in memory). Throughput is in
+//! SWC samples per second for `parse`, `resample` and `tubes`, and in output
+//! triangles per second for the others.
+//!
+//! Run single-threaded, as the figures in `benches/README.md` were taken:
+//! `RAYON_NUM_THREADS=1 cargo bench --bench pipeline`.
 
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use neuromesh::{Morphology, Params};
+use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use neuromesh::{Mesh, Morphology, Params, mesher};
 
-/// Real files from the test corpus: a small, a median, and the largest ones.
+/// Real files from the test corpus: small, median, a big Purkinje cell, and
+/// the largest.
 const FILES: [&str; 4] = [
     "rat_CA1_CCK_interneuron_cck7632.CNG.swc",
     "mouse_V1_Scnn1a_allen_177300.swc",
-    "mouse_allen_test_swc_26k.swc",
+    "purkinje_martone_alxP.CNG.swc",
     "rat_neocortex_interneuron_MTC260800D-IDA.CNG.swc",
 ];
 
@@ -26,15 +35,32 @@ fn path(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn parse(c: &mut Criterion) {
+/// Each file with its morphology and finished mesh (for triangle counts and
+/// the writers).
+fn fixtures() -> Vec<(&'static str, Morphology, Mesh)> {
+    FILES
+        .iter()
+        .map(|&name| {
+            let m = Morphology::from_swc(path(name)).expect("valid fixture");
+            let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
+            eprintln!(
+                "{name}: {} samples, {} triangles",
+                m.len(),
+                mesh.faces.len()
+            );
+            (name, m, mesh)
+        })
+        .collect()
+}
+
+fn stages(c: &mut Criterion) {
+    let params = Params::default();
+    let files = fixtures();
+
     let mut g = c.benchmark_group("parse");
-    for name in FILES {
+    for (name, m, _) in &files {
         let bytes = std::fs::read(path(name)).expect("fixture exists");
-        let n = neuromesh::swc::SwcFile::parse(&bytes, name)
-            .expect("valid")
-            .samples
-            .len();
-        g.throughput(Throughput::Elements(n as u64));
+        g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &bytes, |b, bytes| {
             b.iter(|| {
                 let f = neuromesh::swc::SwcFile::parse(black_box(bytes), name).expect("valid");
@@ -43,25 +69,107 @@ fn parse(c: &mut Criterion) {
         });
     }
     g.finish();
-}
 
-fn tubes(c: &mut Criterion) {
-    let mut g = c.benchmark_group("mesh");
-    g.sample_size(10).measurement_time(Duration::from_secs(8));
-    for name in FILES {
-        let m = Morphology::from_swc(path(name)).expect("valid");
-        let tris = neuromesh::mesh_morphology(&m, &Params::default())
-            .expect("meshes")
-            .faces
-            .len();
-        eprintln!("{name}: {} samples, {tris} triangles", m.len());
+    let mut g = c.benchmark_group("resample");
+    for (name, m, _) in &files {
         g.throughput(Throughput::Elements(m.len() as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(name), &m, |b, m| {
-            b.iter(|| neuromesh::mesh_morphology(black_box(m), &Params::default()).expect("meshes"))
+        g.bench_with_input(BenchmarkId::from_parameter(name), m, |b, m| {
+            b.iter(|| {
+                let geometry = mesher::Geometry::new(m, &params);
+                let branches = neuromesh::branch::identify(m, params.angle_threshold);
+                branches
+                    .iter()
+                    .map(|br| {
+                        let points: Vec<_> =
+                            br.samples.iter().map(|&s| geometry.pos[s as usize]).collect();
+                        let radii: Vec<_> =
+                            br.samples.iter().map(|&s| geometry.radius[s as usize]).collect();
+                        neuromesh::track::Track::new(&points, &radii, &params, None)
+                            .samples
+                            .len()
+                    })
+                    .sum::<usize>()
+            })
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("tubes");
+    g.sample_size(10).measurement_time(Duration::from_secs(6));
+    for (name, m, _) in &files {
+        g.throughput(Throughput::Elements(m.len() as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(name), m, |b, m| {
+            b.iter(|| mesher::build_tubes(black_box(m), &params).expect("tubes"))
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("soma");
+    g.sample_size(10).measurement_time(Duration::from_secs(6));
+    for (name, m, mesh) in &files {
+        let stage = mesher::build_tubes(m, &params).expect("tubes");
+        g.throughput(Throughput::Elements(mesh.faces.len() as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(name), &stage, |b, stage| {
+            b.iter_batched(
+                || stage.clone(),
+                |mut s| {
+                    mesher::build_somas(&mut s);
+                    s
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("splice");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for (name, m, mesh) in &files {
+        let mut stage = mesher::build_tubes(m, &params).expect("tubes");
+        mesher::build_somas(&mut stage);
+        g.throughput(Throughput::Elements(mesh.faces.len() as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(name), &stage, |b, stage| {
+            b.iter_batched(
+                || stage.clone(),
+                |mut s| {
+                    mesher::splice_all(&mut s, &params);
+                    s
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+
+    type Writer = fn(&mut Vec<u8>, &Mesh) -> std::io::Result<()>;
+    let obj: Writer = |w, m| neuromesh::io::write_obj(w, m);
+    let ply: Writer = |w, m| neuromesh::io::write_ply(w, m);
+    for (group, write) in [("write_obj", obj), ("write_ply", ply)] {
+        let mut g = c.benchmark_group(group);
+        g.sample_size(10);
+        for (name, _, mesh) in &files {
+            g.throughput(Throughput::Elements(mesh.faces.len() as u64));
+            g.bench_with_input(BenchmarkId::from_parameter(name), mesh, |b, mesh| {
+                b.iter(|| {
+                    let mut out = Vec::new();
+                    write(&mut out, black_box(mesh)).expect("in memory");
+                    out
+                })
+            });
+        }
+        g.finish();
+    }
+
+    let mut g = c.benchmark_group("end_to_end");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for (name, _, mesh) in &files {
+        g.throughput(Throughput::Elements(mesh.faces.len() as u64));
+        g.bench_function(BenchmarkId::from_parameter(name), |b| {
+            b.iter(|| neuromesh::mesh_swc(path(name), &params).expect("meshes"))
         });
     }
     g.finish();
 }
 
-criterion_group!(benches, parse, tubes);
+criterion_group!(benches, stages);
 criterion_main!(benches);

@@ -42,6 +42,7 @@ pub mod spline;
 pub mod starts;
 pub mod surface;
 pub mod swc;
+pub mod synthetic;
 pub mod track;
 pub mod tube;
 pub mod union;

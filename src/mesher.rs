@@ -23,6 +23,10 @@ use crate::tube::{Ring, Tube};
 /// output keeps a contour's vertices distinct.
 pub const RELATIVE_RADIUS_FLOOR: f64 = 1e-5;
 
+/// Branches whose tubes are built (in parallel) before they are appended to
+/// the cell's surface.
+const TUBE_CHUNK: usize = 256;
+
 /// Meshes an SWC file with `params` (reading, cleaning and meshing).
 ///
 /// # Errors
@@ -58,24 +62,39 @@ pub fn build(
     morphology: &Morphology,
     params: &Params,
 ) -> Result<(Surface, Vec<Branch>, Vec<Tube>, BuildStats)> {
+    let mut stage = build_tubes(morphology, params)?;
+    build_somas(&mut stage);
+    splice_all(&mut stage, params);
     let TubeStage {
-        mut surface,
+        surface,
         branches,
         tubes,
-        mut joins,
+        stats,
+        ..
+    } = stage;
+    Ok((surface, branches, tubes, stats))
+}
+
+/// Step 4: each soma, joined to the trunks its triangulation takes; when its
+/// triangulation fails, the plain sphere, with every trunk left to be spliced
+/// onto it (added to the stage's joins).
+pub fn build_somas(stage: &mut TubeStage) {
+    let TubeStage {
+        surface,
+        tubes,
+        joins,
         somas,
-        mut stats,
-    } = build_tubes(morphology, params)?;
-    // 4. Somas, joined to the trunks their triangulation takes.
-    for (plan, trunks) in &somas {
+        stats,
+        ..
+    } = stage;
+    for (plan, trunks) in somas.iter() {
         let rings: Vec<Ring> = trunks.iter().map(|&t| tubes[t as usize].rings[0]).collect();
-        let built = soma::build(&mut surface, &plan.sphere, &rings, plan.spacing, plan.label);
+        let built = soma::build(surface, &plan.sphere, &rings, plan.spacing, plan.label);
         if built.is_ok() {
             stats.soma_trunks += trunks.len() as u32;
             continue;
         }
-        // The plain sphere, and every trunk spliced onto it.
-        let _ = soma::build(&mut surface, &plan.sphere, &[], plan.spacing, plan.label);
+        let _ = soma::build(surface, &plan.sphere, &[], plan.spacing, plan.label);
         for (&t, ring) in trunks.iter().zip(&rings) {
             let dir = (ring.center - plan.sphere.center).normalize_or_zero();
             joins.push(Join {
@@ -84,21 +103,32 @@ pub fn build(
             });
         }
     }
-    // 5. Splice every open start onto what it grows out of, in build order.
-    let mut splicer = Splicer::new(&mut surface, &tubes, &joins, params.cap_rings);
-    for join in &joins {
-        match splicer.join(&tubes, join) {
-            Method::Paper => stats.junctions_paper += 1,
-            Method::Moved => stats.junctions_moved += 1,
-            Method::Detached => stats.junctions_detached += 1,
+    somas.clear();
+}
+
+/// Step 5: splices every open start onto what it grows out of, in build
+/// order, and counts the junctions by method.
+pub fn splice_all(stage: &mut TubeStage, params: &Params) {
+    let mut splicer = Splicer::new(
+        &mut stage.surface,
+        &stage.tubes,
+        &stage.joins,
+        params.cap_rings,
+    );
+    for join in &stage.joins {
+        match splicer.join(&stage.tubes, join) {
+            Method::Paper => stage.stats.junctions_paper += 1,
+            Method::Moved => stage.stats.junctions_moved += 1,
+            Method::Detached => stage.stats.junctions_detached += 1,
         }
     }
-    Ok((surface, branches, tubes, stats))
+    stage.joins.clear();
 }
 
 /// The surface before splicing: every branch's tube pieces, closed at their
 /// ends except where a join will splice them (secondary starts, later pieces)
 /// or a soma will join them (trunks).
+#[derive(Debug, Clone)]
 pub struct TubeStage {
     /// The pieces' vertices and triangles.
     pub surface: Surface,
@@ -152,7 +182,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         .filter(|&i| starts[i as usize].is_some())
         .collect();
     stats.branches_hidden = (branches.len() - jobs.len()) as u32;
-    let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(&jobs, |&id| {
+    let build_one = |&id: &u32| {
         let b = &branches[id as usize];
         let track = &tracks[id as usize];
         let caps = Caps {
@@ -173,42 +203,50 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         let (tubes, skipped) =
             piece::build_pieces(&mut surface, track, &labels, id, start, anchor, caps);
         (surface, tubes, skipped)
-    });
-    let mut surface = Surface::with_capacity(built.iter().map(|(s, _, _)| s.pos.len()).sum());
+    };
+    let mut surface = Surface::default();
     let mut tubes: Vec<Tube> = Vec::new();
     let mut joins: Vec<Join> = Vec::new();
     let mut first_tube: Vec<Option<u32>> = vec![None; branches.len()];
-    for (local, local_tubes, skipped) in built {
-        let (v0, t0) = surface.append(&local);
-        stats.contours_skipped += skipped;
-        for (piece_index, mut t) in local_tubes.into_iter().enumerate() {
-            for r in &mut t.rings {
-                r.first += v0;
+    // In chunks of branches: the per-branch surfaces of one chunk at a time
+    // are alive beside the whole one, not those of the whole cell (which
+    // doubled the peak memory of a million-sample tree).
+    for chunk in jobs.chunks(TUBE_CHUNK) {
+        let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(chunk, build_one);
+        for (local, local_tubes, skipped) in built {
+            let (v0, t0) = surface.append(&local);
+            drop(local);
+            stats.contours_skipped += skipped;
+            for (piece_index, mut t) in local_tubes.into_iter().enumerate() {
+                for r in &mut t.rings {
+                    r.first += v0;
+                }
+                for b in &mut t.bands {
+                    *b += t0;
+                }
+                t.start_cap = t.start_cap.start + t0..t.start_cap.end + t0;
+                t.end_cap = t.end_cap.start + t0..t.end_cap.end + t0;
+                t.start_cap_vertices =
+                    t.start_cap_vertices.start + v0..t.start_cap_vertices.end + v0;
+                t.tris = t.tris.start + t0..t.tris.end + t0;
+                let b = t.branch as usize;
+                if piece_index == 0 {
+                    first_tube[b] = Some(tubes.len() as u32);
+                }
+                let toward = match (piece_index, branches[b].attachment) {
+                    (0, Attachment::Secondary { .. }) => Some(t.anchor),
+                    (0, Attachment::Soma { .. }) => spliced_trunk[b],
+                    (0, Attachment::Root) => None,
+                    _ => Some(t.anchor),
+                };
+                if let Some(toward) = toward {
+                    joins.push(Join {
+                        tube: tubes.len() as u32,
+                        toward,
+                    });
+                }
+                tubes.push(t);
             }
-            for b in &mut t.bands {
-                *b += t0;
-            }
-            t.start_cap = t.start_cap.start + t0..t.start_cap.end + t0;
-            t.end_cap = t.end_cap.start + t0..t.end_cap.end + t0;
-            t.start_cap_vertices = t.start_cap_vertices.start + v0..t.start_cap_vertices.end + v0;
-            t.tris = t.tris.start + t0..t.tris.end + t0;
-            let b = t.branch as usize;
-            if piece_index == 0 {
-                first_tube[b] = Some(tubes.len() as u32);
-            }
-            let toward = match (piece_index, branches[b].attachment) {
-                (0, Attachment::Secondary { .. }) => Some(t.anchor),
-                (0, Attachment::Soma { .. }) => spliced_trunk[b],
-                (0, Attachment::Root) => None,
-                _ => Some(t.anchor),
-            };
-            if let Some(toward) = toward {
-                joins.push(Join {
-                    tube: tubes.len() as u32,
-                    toward,
-                });
-            }
-            tubes.push(t);
         }
     }
     let somas = somas

@@ -95,26 +95,45 @@ impl Surface {
 
     /// The finished mesh: live triangles only, unused vertices dropped, f32.
     pub fn into_mesh(self, stats: BuildStats) -> Mesh {
-        let mut remap = vec![u32::MAX; self.pos.len()];
-        let mut vertices = Vec::with_capacity(self.pos.len());
-        let mut vertex_sample = Vec::with_capacity(self.pos.len());
-        let mut faces = Vec::with_capacity(self.tris.len());
-        for (t, alive) in self.tris.iter().zip(&self.alive) {
-            if !alive {
+        let Surface {
+            pos,
+            label,
+            mut tris,
+            alive,
+        } = self;
+        // The faces are the live triangles renumbered, compacted in place, so
+        // the peak never holds two triangle arrays (a million-sample tree has
+        // 70 million triangles).
+        let mut remap = vec![u32::MAX; pos.len()];
+        let mut order: Vec<u32> = Vec::with_capacity(pos.len());
+        let mut live = 0;
+        for t in 0..tris.len() {
+            if !alive[t] {
                 continue;
             }
-            let f = t.map(|k| {
+            tris[live] = tris[t].map(|k| {
                 let slot = &mut remap[k as usize];
                 if *slot == u32::MAX {
-                    *slot = vertices.len() as u32;
-                    let p = self.pos[k as usize];
-                    vertices.push([p.x as f32, p.y as f32, p.z as f32]);
-                    vertex_sample.push(self.label[k as usize]);
+                    *slot = order.len() as u32;
+                    order.push(k);
                 }
                 *slot
             });
-            faces.push(f);
+            live += 1;
         }
+        tris.truncate(live);
+        tris.shrink_to_fit();
+        let faces = tris;
+        drop((alive, remap));
+        let vertices = order
+            .iter()
+            .map(|&k| {
+                let p = pos[k as usize];
+                [p.x as f32, p.y as f32, p.z as f32]
+            })
+            .collect();
+        drop(pos);
+        let vertex_sample = order.iter().map(|&k| label[k as usize]).collect();
         Mesh {
             vertices,
             faces,

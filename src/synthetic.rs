@@ -1,0 +1,143 @@
+//! Seeded, neuron-like random trees of any size, as SWC text: the fixture of
+//! the scaling benchmark (10 thousand to a million samples) and of tests that
+//! need a big, valid, reproducible cell.
+//!
+//! The cell is a soma sphere with a few primary neurites. Every living tip
+//! grows one sample per round along a persistent random walk, with a spacing
+//! proportional to its radius (as dense tracings have), tapers slowly, may
+//! fork (the child leaves 25 to 70 degrees off, thinner) and may end; one tip
+//! always survives until the requested number of samples is reached. The same
+//! `(samples, seed)` always gives the same text.
+
+use std::fmt::Write as _;
+
+use glam::DVec3;
+
+/// A small, fast, seeded generator (SplitMix64), enough for shapes.
+#[derive(Debug, Clone)]
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform on the unit sphere.
+    fn unit(&mut self) -> DVec3 {
+        let z = 2.0 * self.f64() - 1.0;
+        let phi = std::f64::consts::TAU * self.f64();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+}
+
+/// A growing tip.
+struct Tip {
+    parent: usize,
+    pos: DVec3,
+    dir: DVec3,
+    radius: f64,
+    kind: u8,
+}
+
+/// Soma radius of the generated cell (micrometres).
+pub const SOMA_RADIUS: f64 = 8.0;
+
+/// An SWC text of a random neuron with exactly `samples` samples (at least 2):
+/// one soma sample and neurites of types 2 (axon), 3 and 4 (dendrites).
+pub fn random_neuron_swc(samples: usize, seed: u64) -> String {
+    let samples = samples.max(2);
+    let mut rng = Rng(seed ^ 0x5EED_0000_0000_0000);
+    let mut out = String::with_capacity(samples * 48);
+    out.push_str("# random neuron from neuromesh::synthetic\n");
+    let _ = writeln!(out, "# samples {samples}, seed {seed}");
+    let _ = writeln!(out, "1 1 0 0 0 {SOMA_RADIUS} -1");
+    let mut tips: Vec<Tip> = (0..5)
+        .map(|i| {
+            let dir = rng.unit();
+            Tip {
+                parent: 1,
+                pos: dir * SOMA_RADIUS,
+                dir,
+                radius: if i == 0 { 1.0 } else { 1.5 + rng.f64() },
+                kind: if i == 0 { 2 } else { 3 + (i % 2) as u8 },
+            }
+        })
+        .collect();
+    let mut id = 1;
+    while id < samples {
+        let mut next: Vec<Tip> = Vec::with_capacity(tips.len() + 4);
+        let alive = tips.len();
+        for (k, mut tip) in tips.into_iter().enumerate() {
+            if id >= samples {
+                break;
+            }
+            id += 1;
+            let step = (1.2 * tip.radius).clamp(0.25, 3.0);
+            tip.dir = (tip.dir + 0.25 * rng.unit()).normalize();
+            tip.pos += tip.dir * step;
+            tip.radius = (tip.radius * 0.998).max(0.15);
+            let _ = writeln!(
+                out,
+                "{id} {} {:.4} {:.4} {:.4} {:.4} {}",
+                tip.kind, tip.pos.x, tip.pos.y, tip.pos.z, tip.radius, tip.parent
+            );
+            tip.parent = id;
+            if rng.f64() < 0.02 {
+                // A fork: the child leaves at 25-70 degrees, thinner.
+                let side = tip.dir.cross(rng.unit()).normalize_or_zero();
+                let angle = (25.0 + 45.0 * rng.f64()).to_radians();
+                let dir = (tip.dir * angle.cos() + side * angle.sin()).normalize_or(tip.dir);
+                next.push(Tip {
+                    parent: id,
+                    pos: tip.pos,
+                    dir,
+                    radius: (tip.radius * (0.6 + 0.3 * rng.f64())).max(0.15),
+                    kind: tip.kind,
+                });
+            }
+            // Tips end now and then, but the last one standing never does.
+            let last = k + 1 == alive && next.is_empty();
+            if last || rng.f64() >= 0.004 {
+                next.push(tip);
+            }
+        }
+        tips = next;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_size_and_reproducible() {
+        for n in [2, 3, 50, 2_000] {
+            let a = random_neuron_swc(n, 7);
+            let rows = a.lines().filter(|l| !l.starts_with('#')).count();
+            assert_eq!(rows, n);
+            assert_eq!(a, random_neuron_swc(n, 7));
+        }
+        assert_ne!(random_neuron_swc(500, 1), random_neuron_swc(500, 2));
+    }
+
+    #[test]
+    fn parses_as_one_tree_with_a_soma() {
+        let text = random_neuron_swc(5_000, 3);
+        let file = crate::swc::SwcFile::parse(text.as_bytes(), "random.swc").expect("valid SWC");
+        let m = crate::Morphology::from_file(file).expect("a tree");
+        assert_eq!(m.len(), 5_000);
+        assert_eq!(m.trees().len(), 1);
+        assert_eq!(m.soma_kind(), crate::SomaKind::SinglePoint);
+    }
+}
