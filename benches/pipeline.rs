@@ -80,10 +80,16 @@ fn stages(c: &mut Criterion) {
                 branches
                     .iter()
                     .map(|br| {
-                        let points: Vec<_> =
-                            br.samples.iter().map(|&s| geometry.pos[s as usize]).collect();
-                        let radii: Vec<_> =
-                            br.samples.iter().map(|&s| geometry.radius[s as usize]).collect();
+                        let points: Vec<_> = br
+                            .samples
+                            .iter()
+                            .map(|&s| geometry.pos[s as usize])
+                            .collect();
+                        let radii: Vec<_> = br
+                            .samples
+                            .iter()
+                            .map(|&s| geometry.radius[s as usize])
+                            .collect();
                         neuromesh::track::Track::new(&points, &radii, &params, None)
                             .samples
                             .len()
