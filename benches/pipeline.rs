@@ -77,24 +77,7 @@ fn stages(c: &mut Criterion) {
             b.iter(|| {
                 let geometry = mesher::Geometry::new(m, &params);
                 let branches = neuromesh::branch::identify(m, params.angle_threshold);
-                branches
-                    .iter()
-                    .map(|br| {
-                        let points: Vec<_> = br
-                            .samples
-                            .iter()
-                            .map(|&s| geometry.pos[s as usize])
-                            .collect();
-                        let radii: Vec<_> = br
-                            .samples
-                            .iter()
-                            .map(|&s| geometry.radius[s as usize])
-                            .collect();
-                        neuromesh::track::Track::new(&points, &radii, &params, None)
-                            .samples
-                            .len()
-                    })
-                    .sum::<usize>()
+                mesher::tracks(&geometry, &branches, &params)
             })
         });
     }

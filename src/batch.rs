@@ -44,16 +44,7 @@ pub fn run<T: Send>(
     job: impl Fn(&Path) -> Result<T> + Sync + Send,
     progress: impl Fn(usize, &Outcome<T>) + Sync + Send,
 ) -> Result<Vec<Outcome<T>>> {
-    let threads = match threads {
-        Some(0) => {
-            return Err(Error::InvalidParam {
-                name: "threads",
-                reason: "must be at least 1".to_owned(),
-            });
-        }
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
-    };
+    let threads = crate::parallel::thread_count(threads)?;
     let workers = if cfg!(feature = "parallel") {
         threads.min(inputs.len()).max(1)
     } else {

@@ -158,19 +158,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         ..BuildStats::default()
     };
     // 1. Resample and frame every branch.
-    let tracks: Vec<Track> = crate::parallel::map(&branches, |b| {
-        let points: Vec<DVec3> = b
-            .samples
-            .iter()
-            .map(|&s| geometry.pos[s as usize])
-            .collect();
-        let radii: Vec<f64> = b
-            .samples
-            .iter()
-            .map(|&s| geometry.radius[s as usize])
-            .collect();
-        Track::new(&points, &radii, params, None)
-    });
+    let tracks = tracks(&geometry, &branches, params);
     // 2. Where each branch's tube starts, and which trunks each soma takes.
     let Starts {
         start: starts,
@@ -215,7 +203,6 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(chunk, build_one);
         for (local, local_tubes, skipped) in built {
             let (v0, t0) = surface.append(&local);
-            drop(local);
             stats.contours_skipped += skipped;
             for (piece_index, mut t) in local_tubes.into_iter().enumerate() {
                 for r in &mut t.rings {
@@ -267,6 +254,23 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         joins,
         somas,
         stats,
+    })
+}
+
+/// Every branch resampled (Catmull-Rom) and framed, with its contour sizes.
+pub fn tracks(geometry: &Geometry, branches: &[Branch], params: &Params) -> Vec<Track> {
+    crate::parallel::map(branches, |b| {
+        let points: Vec<DVec3> = b
+            .samples
+            .iter()
+            .map(|&s| geometry.pos[s as usize])
+            .collect();
+        let radii: Vec<f64> = b
+            .samples
+            .iter()
+            .map(|&s| geometry.radius[s as usize])
+            .collect();
+        Track::new(&points, &radii, params, None)
     })
 }
 

@@ -14,12 +14,7 @@ pub fn with_threads<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> T + Send,
 ) -> crate::Result<T> {
-    if threads == Some(0) {
-        return Err(crate::Error::InvalidParam {
-            name: "threads",
-            reason: "must be at least 1".to_owned(),
-        });
-    }
+    thread_count(threads)?;
     #[cfg(feature = "parallel")]
     {
         let mut builder = rayon::ThreadPoolBuilder::new();
@@ -35,6 +30,21 @@ pub fn with_threads<T: Send>(
     #[cfg(not(feature = "parallel"))]
     {
         Ok(f())
+    }
+}
+
+/// The number of threads `threads` asks for: itself, or all cores for `None`.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for `Some(0)`.
+pub fn thread_count(threads: Option<usize>) -> crate::Result<usize> {
+    match threads {
+        Some(0) => Err(crate::Error::InvalidParam {
+            name: "threads",
+            reason: "must be at least 1".to_owned(),
+        }),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)),
     }
 }
 

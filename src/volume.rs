@@ -57,27 +57,25 @@ pub fn first_outside_from(
     })
 }
 
-fn point_segment_distance_sq(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+/// The parameter in [0, 1] of the point of segment `a`-`b` nearest to `p`.
+fn nearest_on_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
+    if l2 > 0.0 {
         ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
     } else {
         0.0
-    };
-    p.distance_squared(a + ab * t)
+    }
+}
+
+fn point_segment_distance_sq(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    p.distance_squared(a.lerp(b, nearest_on_segment(p, a, b)))
 }
 
 fn inside_cone(p: DVec3, a: DVec3, b: DVec3, ra: f64, rb: f64, margin: f64) -> bool {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = nearest_on_segment(p, a, b);
     let r = ra + (rb - ra) * t;
-    p.distance(a + ab * t) < r + margin
+    p.distance(a.lerp(b, t)) < r + margin
 }
 
 fn axis_crosses_disc(a: DVec3, b: DVec3, r_cone: f64, c: DVec3, n: DVec3, r: f64) -> bool {

@@ -80,9 +80,7 @@ pub fn run(
             }
         }
     }
-    let threads = jobs.unwrap_or_else(|| {
-        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-    });
+    let threads = neuromesh::parallel::thread_count(jobs)?;
     let done = outcomes.len() - failed;
     println!(
         "files      {} ({done} meshed, {failed} failed)",
