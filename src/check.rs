@@ -125,7 +125,8 @@ impl MeshReport {
                 "\"intersecting_pairs\":[{}],",
                 "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
-                "\"junctions_detached\":{},\"soma_trunks\":{}}}}}"
+                "\"junctions_detached\":{},\"soma_trunks\":{},\"overlap_pairs\":{},",
+                "\"overlap_pairs_left\":{}}}}}"
             ),
             self.vertices,
             self.faces,
@@ -167,6 +168,8 @@ impl MeshReport {
             s.junctions_fallback,
             s.junctions_detached,
             s.soma_trunks,
+            s.overlap_pairs,
+            s.overlap_pairs_left,
         )
     }
 }
@@ -246,6 +249,11 @@ impl std::fmt::Display for MeshReport {
                 "junctions             {} paper, {} moved, {} fallback, {} detached",
                 s.junctions_paper, s.junctions_moved, s.junctions_fallback, s.junctions_detached
             )?;
+            writeln!(
+                f,
+                "overlaps              {} crossing pairs of parts, {} left after the union",
+                s.overlap_pairs, s.overlap_pairs_left
+            )?;
         }
         write!(f, "valid                 {}", yes(self.is_valid()))
     }
@@ -318,13 +326,15 @@ impl MeshView<'_> {
     }
 }
 
-struct UnionFind(Vec<u32>);
+/// Disjoint sets over `0..n` (path halving, smaller root wins, so the result
+/// does not depend on the order of unions).
+pub(crate) struct UnionFind(Vec<u32>);
 
 impl UnionFind {
-    fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         UnionFind((0..n as u32).collect())
     }
-    fn find(&mut self, mut i: u32) -> u32 {
+    pub(crate) fn find(&mut self, mut i: u32) -> u32 {
         while self.0[i as usize] != i {
             let next = self.0[i as usize];
             self.0[i as usize] = self.0[next as usize];
@@ -332,7 +342,7 @@ impl UnionFind {
         }
         i
     }
-    fn union(&mut self, a: u32, b: u32) {
+    pub(crate) fn union(&mut self, a: u32, b: u32) {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {
             self.0[ra.max(rb) as usize] = ra.min(rb);

@@ -29,6 +29,12 @@ pub struct BuildStats {
     pub junctions_detached: u32,
     /// Neurites joined to a soma.
     pub soma_trunks: u32,
+    /// Intersecting face pairs between parts (branches passing through each
+    /// other, branches inside their parent) found before the union was taken.
+    pub overlap_pairs: u32,
+    /// Of those, pairs still in the mesh because the union could not be built
+    /// there (0 when it was).
+    pub overlap_pairs_left: u32,
 }
 
 /// A triangle mesh. Faces wind counter-clockwise seen from outside.

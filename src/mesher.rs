@@ -49,8 +49,26 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
-    let (surface, _, _, stats) = build(morphology, params)?;
-    Ok(surface.into_mesh(stats))
+    let mut stage = build_tubes(morphology, params)?;
+    build_somas(&mut stage);
+    splice_all(&mut stage, params);
+    let TubeStage {
+        surface,
+        stats,
+        owner,
+        ..
+    } = stage;
+    let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
+    resolve_overlaps(&mut mesh, &face_owner);
+    Ok(mesh)
+}
+
+/// Step 6: where parts of the mesh cross each other, the boundary of their
+/// union replaces them ([`crate::overlap`]); counted in the stats.
+pub fn resolve_overlaps(mesh: &mut Mesh, face_owner: &[u32]) {
+    let outcome = crate::overlap::resolve(mesh, face_owner);
+    mesh.stats.overlap_pairs = outcome.pairs;
+    mesh.stats.overlap_pairs_left = outcome.pairs_left;
 }
 
 /// The whole construction with its intermediate structures (branches and tubes
@@ -122,6 +140,7 @@ pub fn splice_all(stage: &mut TubeStage, params: &Params) {
             Method::Detached => stage.stats.junctions_detached += 1,
         }
     }
+    stage.owner = splicer.into_owner();
     stage.joins.clear();
 }
 
@@ -142,6 +161,8 @@ pub struct TubeStage {
     pub somas: Vec<(SomaPlan, Vec<u32>)>,
     /// Counts so far.
     pub stats: BuildStats,
+    /// The tube piece of every triangle, once spliced (empty before).
+    pub owner: Vec<u32>,
 }
 
 /// Steps 1 to 3 of the pipeline: branches, tracks, first contours and tubes.
@@ -254,6 +275,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         joins,
         somas,
         stats,
+        owner: Vec::new(),
     })
 }
 

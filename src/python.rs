@@ -368,6 +368,8 @@ fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDic
     d.set_item("junctions_fallback", s.junctions_fallback)?;
     d.set_item("junctions_detached", s.junctions_detached)?;
     d.set_item("soma_trunks", s.soma_trunks)?;
+    d.set_item("overlap_pairs", s.overlap_pairs)?;
+    d.set_item("overlap_pairs_left", s.overlap_pairs_left)?;
     Ok(d)
 }
 

@@ -124,6 +124,12 @@ impl<'a> Splicer<'a> {
         }
     }
 
+    /// The tube of every triangle of the surface ([`crate::overlap::NO_OWNER`]
+    /// for bridges and somas).
+    pub fn into_owner(self) -> Vec<u32> {
+        self.owner
+    }
+
     /// Joins `tube`'s open start to the surface, trying the alternatives in
     /// order; always leaves the surface closed.
     pub fn join(&mut self, tubes: &[Tube], join: &Join) -> Method {
@@ -739,6 +745,19 @@ fn attempts(tube: &Tube) -> Vec<Attempt> {
         out.push(variant(k, Aim::NearestSurface, 1.0, true));
         out.push(variant(k, Aim::NearestToStart, 1.0, true));
         out.push(variant(k, Aim::Backwards, 1.0, true));
+    }
+    // Last resort before detaching: a C_1sec farther out, up to ten radii.
+    let far_limit = 10.0 * r0.radius;
+    for k in 1..tube.rings.len().min(40) {
+        let d = tube.rings[k].center.distance(r0.center);
+        if d <= 3.0 * r0.radius.max(tube.rings[k].radius) {
+            continue;
+        }
+        if d > far_limit.max(3.0 * tube.rings[k].radius) {
+            break;
+        }
+        out.push(variant(k, Aim::NearestToStart, 1.0, true));
+        out.push(variant(k, Aim::BranchPoint, 1.0, true));
     }
     out
 }

@@ -95,6 +95,13 @@ impl Surface {
 
     /// The finished mesh: live triangles only, unused vertices dropped, f32.
     pub fn into_mesh(self, stats: BuildStats) -> Mesh {
+        self.into_mesh_with(stats, Vec::new()).0
+    }
+
+    /// [`Surface::into_mesh`], also carrying a per-triangle value (empty for
+    /// none) over to the mesh's faces.
+    pub fn into_mesh_with(self, stats: BuildStats, mut per_tri: Vec<u32>) -> (Mesh, Vec<u32>) {
+        let carry = per_tri.len() == self.tris.len();
         let Surface {
             pos,
             label,
@@ -119,8 +126,12 @@ impl Surface {
                 }
                 *slot
             });
+            if carry {
+                per_tri[live] = per_tri[t];
+            }
             live += 1;
         }
+        per_tri.truncate(if carry { live } else { 0 });
         tris.truncate(live);
         tris.shrink_to_fit();
         let faces = tris;
@@ -134,12 +145,15 @@ impl Surface {
             .collect();
         drop(pos);
         let vertex_sample = order.iter().map(|&k| label[k as usize]).collect();
-        Mesh {
-            vertices,
-            faces,
-            vertex_sample,
-            stats,
-        }
+        (
+            Mesh {
+                vertices,
+                faces,
+                vertex_sample,
+                stats,
+            },
+            per_tri,
+        )
     }
 }
 

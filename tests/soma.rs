@@ -146,8 +146,9 @@ fn a_neurite_thicker_than_the_soma() {
     assert_cell(&m, 0.03, "thick neurite");
 }
 
-/// Every real file: closed, manifold, outward; one component per tree plus one
-/// per junction that had to be left detached (so nothing else is loose).
+/// Every real file: closed, manifold, outward; at most one component per tree
+/// plus one per junction that had to be left detached (so nothing else is
+/// loose; crossing trees and detached branches merge in the overlap pass).
 #[test]
 fn every_real_file_is_one_surface_per_tree() {
     for f in common::real_files() {
@@ -159,10 +160,10 @@ fn every_real_file_is_one_surface_per_tree() {
             r.is_closed() && r.is_manifold() && r.is_outward(),
             "{what}\n{r}"
         );
-        assert_eq!(
+        assert!(
+            r.components <= m.trees().len() + mesh.stats.junctions_detached as usize,
+            "{what}: {} components, {:?}",
             r.components,
-            m.trees().len() + mesh.stats.junctions_detached as usize,
-            "{what}: {:?}",
             mesh.stats
         );
     }

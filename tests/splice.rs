@@ -19,8 +19,9 @@ fn tree(rows: &[(i64, [f64; 3], f64)]) -> Morphology {
     Morphology::from_arrays(&ids, &vec![3; n], &xyz, &radii, &parents).expect("valid tree")
 }
 
-/// Closed, manifold, outward, and one component per tree plus one per
-/// detached junction.
+/// Closed, manifold, outward, and at most one component per tree plus one
+/// per detached junction (a detached branch that crosses its parent is merged
+/// into it by the overlap pass, and so are trees that cross each other).
 fn assert_joined(m: &Morphology, what: &str) -> (Mesh, MeshReport) {
     let mesh = neuromesh::mesh_morphology(m, &Params::default()).expect("meshes");
     let r = mesh.check_with(m);
@@ -28,9 +29,8 @@ fn assert_joined(m: &Morphology, what: &str) -> (Mesh, MeshReport) {
         r.is_closed() && r.is_manifold() && r.is_outward(),
         "{what}\n{r}"
     );
-    assert_eq!(
-        r.components,
-        m.trees().len() + mesh.stats.junctions_detached as usize,
+    assert!(
+        r.components <= m.trees().len() + mesh.stats.junctions_detached as usize,
         "{what}\n{r}"
     );
     (mesh, r)

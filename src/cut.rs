@@ -1,0 +1,372 @@
+//! Cutting crossing faces along their intersection (step 2 of
+//! [`crate::overlap`]).
+//!
+//! Two crossing triangles in general position meet along a segment whose
+//! ends are where an edge of one pierces the other. Each such piercing is one
+//! new vertex, keyed by (edge, pierced face): the two faces sharing the edge
+//! and the pierced face all refer to the same vertex, so the cut faces meet
+//! their neighbours without cracks. Every decision (which side of a plane,
+//! whether an edge pierces a face) uses exact orientation predicates on the
+//! stored coordinates, so the two faces of an edge always agree. The new
+//! vertices are rounded to f32 at once, the precision of the output, and the
+//! re-triangulation works on those rounded points.
+//!
+//! Degenerate contacts (a vertex exactly on the other face's plane, an edge
+//! through an edge, two faces sharing a vertex and crossing) and triple points
+//! (two cut segments crossing inside a face) are refused with a reason; the
+//! caller then leaves the mesh as it was.
+
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use crate::geom::{P3, orient3d, orient3d_sign};
+use crate::hash::{FastMap, FastSet};
+
+/// The cuts of a mesh: new vertices, and per cut face its pierced-by points
+/// and cut segments.
+#[derive(Debug, Default)]
+pub struct Cuts {
+    /// Number of vertices before cutting; new vertex `i` is `n_old + i`.
+    n_old: u32,
+    /// Positions of the new vertices (already f32-exact).
+    pub points: Vec<P3>,
+    /// For each new vertex, an old vertex to take the label from (the pierced
+    /// edge's first end).
+    pub point_label_vertex: Vec<u32>,
+    /// New vertices on each old edge (min, max), with their parameter from min.
+    edge_points: FastMap<(u32, u32), Vec<(f64, u32)>>,
+    /// Per cut face: new vertices inside it, and cut segments.
+    faces: FastMap<u32, FaceCut>,
+    /// Cut segments as (min, max) vertex pairs.
+    cut_edges: FastSet<(u32, u32)>,
+}
+
+#[derive(Debug, Default, Clone)]
+struct FaceCut {
+    inner: Vec<u32>,
+    /// Cut segments, each with the face that cuts along it.
+    segments: Vec<([u32; 2], u32)>,
+}
+
+impl Cuts {
+    /// The cuts of `faces` for the crossing `pairs`.
+    pub fn find(pos: &[P3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Cuts, &'static str> {
+        let mut cuts = Cuts {
+            n_old: pos.len() as u32,
+            ..Cuts::default()
+        };
+        let mut ids: FastMap<(u32, u32, u32), u32> = FastMap::default();
+        for &[a, b] in pairs {
+            let (fa, fb) = (faces[a as usize], faces[b as usize]);
+            if fa.iter().any(|v| fb.contains(v)) {
+                return Err("crossing faces share a vertex");
+            }
+            let mut ends: Vec<u32> = Vec::with_capacity(2);
+            for (edges_of, face) in [(fa, b), (fb, a)] {
+                let f = faces[face as usize];
+                let t = f.map(|k| pos[k as usize]);
+                let side: [i8; 3] =
+                    std::array::from_fn(|i| sign([f[0], f[1], f[2], edges_of[i]], pos));
+                for i in 0..3 {
+                    let (u, v) = (edges_of[i], edges_of[(i + 1) % 3]);
+                    if side[i] == side[(i + 1) % 3] {
+                        continue;
+                    }
+                    let (u, v) = (u.min(v), u.max(v));
+                    let o: [i8; 3] =
+                        std::array::from_fn(|j| sign([u, v, f[j], f[(j + 1) % 3]], pos));
+                    if o[0] != o[1] || o[1] != o[2] {
+                        continue; // crosses the plane outside the face
+                    }
+                    let key = (u, v, face);
+                    let id = match ids.get(&key) {
+                        Some(&id) => id,
+                        None => {
+                            let id = cuts.pierce(pos, u, v, face, t)?;
+                            ids.insert(key, id);
+                            id
+                        }
+                    };
+                    ends.push(id);
+                }
+            }
+            let [p, q] = ends[..] else {
+                return Err("a crossing pair without exactly two piercings");
+            };
+            cuts.cut_edges.insert((p.min(q), p.max(q)));
+            cuts.faces.entry(a).or_default().segments.push(([p, q], b));
+            cuts.faces.entry(b).or_default().segments.push(([p, q], a));
+        }
+        Ok(cuts)
+    }
+
+    /// New vertex where edge (u, v), u < v, pierces face `face` (corners `t`).
+    fn pierce(
+        &mut self,
+        pos: &[P3],
+        u: u32,
+        v: u32,
+        face: u32,
+        t: [P3; 3],
+    ) -> Result<u32, &'static str> {
+        let (pu, pv) = (pos[u as usize], pos[v as usize]);
+        let (du, dv) = (
+            orient3d(t[0], t[1], t[2], pu),
+            orient3d(t[0], t[1], t[2], pv),
+        );
+        if du == dv {
+            return Err("a piercing edge lies in the pierced face's plane");
+        }
+        let s = (du / (du - dv)).clamp(0.0, 1.0);
+        let p: P3 = std::array::from_fn(|i| f64::from((pu[i] + s * (pv[i] - pu[i])) as f32));
+        if p == pu || p == pv {
+            return Err("a piercing rounds onto a vertex");
+        }
+        let id = self.n_old + self.points.len() as u32;
+        self.points.push(p);
+        self.point_label_vertex.push(u);
+        self.edge_points.entry((u, v)).or_default().push((s, id));
+        self.faces.entry(face).or_default().inner.push(id);
+        Ok(id)
+    }
+
+    /// Position of vertex `k`, old or new.
+    pub fn at(&self, pos: &[P3], k: u32) -> P3 {
+        if k < self.n_old {
+            pos[k as usize]
+        } else {
+            self.points[(k - self.n_old) as usize]
+        }
+    }
+
+    /// New vertex where the planes of three faces meet.
+    fn triple_point(
+        &mut self,
+        pos: &[P3],
+        faces: &[[u32; 3]],
+        key: [u32; 3],
+    ) -> Result<u32, &'static str> {
+        use crate::mesh::{cross, dot, sub};
+        let planes: [(P3, f64); 3] = key.map(|f| {
+            let t = faces[f as usize].map(|k| pos[k as usize]);
+            let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+            (n, dot(n, t[0]))
+        });
+        let (n1, n2, n3) = (planes[0].0, planes[1].0, planes[2].0);
+        let det = dot(n1, cross(n2, n3));
+        if det == 0.0 || !det.is_finite() {
+            return Err("three crossing faces have no common point");
+        }
+        let (c23, c31, c12) = (cross(n2, n3), cross(n3, n1), cross(n1, n2));
+        let p: P3 = std::array::from_fn(|i| {
+            let x = (planes[0].1 * c23[i] + planes[1].1 * c31[i] + planes[2].1 * c12[i]) / det;
+            f64::from(x as f32)
+        });
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err("three crossing faces have no common point");
+        }
+        let id = self.n_old + self.points.len() as u32;
+        self.points.push(p);
+        self.point_label_vertex.push(faces[key[0] as usize][0]);
+        Ok(id)
+    }
+
+    /// The cut segments (and their pieces between triple points).
+    pub fn cut_edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.cut_edges.iter().copied()
+    }
+}
+
+/// The exact sign of `orient3d` of four vertices, with ties (four coplanar
+/// points) broken by the parity of the permutation that sorts their indices:
+/// a rule that depends only on the four vertices, so every test that meets the
+/// same quadruple decides it the same way, and is antisymmetric as the
+/// determinant is.
+fn sign(v: [u32; 4], pos: &[P3]) -> i8 {
+    let s = orient3d_sign(
+        pos[v[0] as usize],
+        pos[v[1] as usize],
+        pos[v[2] as usize],
+        pos[v[3] as usize],
+    );
+    if s != 0 {
+        return s;
+    }
+    let mut inversions = 0;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            if v[i] > v[j] {
+                inversions += 1;
+            }
+        }
+    }
+    if inversions % 2 == 0 { 1 } else { -1 }
+}
+
+/// The pieces of the cut faces.
+#[derive(Debug, Default)]
+pub struct Pieces {
+    /// Triangles, oriented as the faces they come from.
+    pub faces: Vec<[u32; 3]>,
+    /// The face each piece comes from.
+    pub origin: Vec<u32>,
+}
+
+/// Re-triangulates every cut face with its split edges and cut segments as
+/// constraints (in increasing face order, so the result is deterministic).
+///
+/// Where two cut segments of a face cross, three faces meet in one point: it
+/// becomes a new vertex (keyed by the three faces, placed where their planes
+/// meet) that splits both segments, in each of the three faces.
+pub fn retriangulate(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    cuts: &mut Cuts,
+) -> Result<Pieces, &'static str> {
+    let mut order: Vec<u32> = cuts.faces.keys().copied().collect();
+    order.sort_unstable();
+    let mut triples: FastMap<[u32; 3], u32> = FastMap::default();
+    let mut out = Pieces::default();
+    for f in order {
+        let face = faces[f as usize];
+        let cut = cuts.faces[&f].clone();
+        // The boundary: corners and the new vertices on each edge, in order.
+        let mut boundary: Vec<u32> = Vec::with_capacity(3 + cut.segments.len());
+        for e in 0..3 {
+            let (a, b) = (face[e], face[(e + 1) % 3]);
+            boundary.push(a);
+            if let Some(on_edge) = cuts.edge_points.get(&(a.min(b), a.max(b))) {
+                let mut on_edge = on_edge.clone();
+                on_edge.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+                if a > b {
+                    on_edge.reverse();
+                }
+                boundary.extend(on_edge.iter().map(|x| x.1));
+            }
+        }
+        let mut inner = cut.inner.clone();
+        let t = face.map(|k| pos[k as usize]);
+        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
+        let axis = (0..3)
+            .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+            .unwrap_or(2);
+        let flip = n[axis] < 0.0;
+        let flat = |p: P3| match axis {
+            0 => [p[1], p[2]],
+            1 => [p[2], p[0]],
+            _ => [p[0], p[1]],
+        };
+        // Triple points: crossings of segments that come from different faces.
+        let segs = &cut.segments;
+        let mut splits: Vec<Vec<(f64, u32)>> = vec![Vec::new(); segs.len()];
+        for i in 0..segs.len() {
+            for j in i + 1..segs.len() {
+                let ((s, g), (r, h)) = (segs[i], segs[j]);
+                if g == h || s.iter().any(|k| r.contains(k)) {
+                    continue;
+                }
+                let [a, b, c, d] = [s[0], s[1], r[0], r[1]].map(|k| flat(cuts.at(pos, k)));
+                let o = [
+                    orient2d_sign(a, b, c),
+                    orient2d_sign(a, b, d),
+                    orient2d_sign(c, d, a),
+                    orient2d_sign(c, d, b),
+                ];
+                if o[0] * o[1] > 0 || o[2] * o[3] > 0 {
+                    continue;
+                }
+                if o.contains(&0) {
+                    return Err("two cut segments touch inside a face");
+                }
+                let mut key = [f, g, h];
+                key.sort_unstable();
+                let id = match triples.get(&key) {
+                    Some(&id) => id,
+                    None => {
+                        let id = cuts.triple_point(pos, faces, key)?;
+                        triples.insert(key, id);
+                        id
+                    }
+                };
+                // Order along each segment by the 2D crossing parameter.
+                let den = (b[0] - a[0]) * (d[1] - c[1]) - (b[1] - a[1]) * (d[0] - c[0]);
+                let ta = ((c[0] - a[0]) * (d[1] - c[1]) - (c[1] - a[1]) * (d[0] - c[0])) / den;
+                let tc = ((c[0] - a[0]) * (b[1] - a[1]) - (c[1] - a[1]) * (b[0] - a[0])) / den;
+                splits[i].push((ta, id));
+                splits[j].push((tc, id));
+                inner.push(id);
+            }
+        }
+        inner.sort_unstable();
+        inner.dedup();
+        let ids: Vec<u32> = boundary.iter().chain(&inner).copied().collect();
+        let local: FastMap<u32, usize> = ids.iter().enumerate().map(|(i, &k)| (k, i)).collect();
+        if local.len() != ids.len() {
+            return Err("a new vertex is both on an edge and inside a face");
+        }
+        let pts2: Vec<[f64; 2]> = ids.iter().map(|&k| flat(cuts.at(pos, k))).collect();
+        let nb = boundary.len();
+        let mut edges: Vec<[usize; 2]> = (0..nb).map(|i| [i, (i + 1) % nb]).collect();
+        for (k, (s, _)) in segs.iter().enumerate() {
+            let mut chain = vec![s[0]];
+            let mut cuts_on = splits[k].clone();
+            cuts_on.sort_by(|x, y| x.0.total_cmp(&y.0));
+            chain.extend(cuts_on.iter().map(|x| x.1));
+            chain.push(s[1]);
+            for w in chain.windows(2) {
+                edges.push([local[&w[0]], local[&w[1]]]);
+                cuts.cut_edges.insert((w[0].min(w[1]), w[0].max(w[1])));
+            }
+        }
+        let mut conflict = false;
+        let points: Vec<Point2<f64>> = pts2.iter().map(|p| Point2::new(p[0], p[1])).collect();
+        let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+            ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges, |_| conflict = true)
+                .map_err(|_| "a cut face cannot be triangulated")?;
+        if conflict {
+            return Err("cut segments cross inside a face after rounding");
+        }
+        if cdt.num_vertices() != ids.len() {
+            return Err("two new vertices round to one point");
+        }
+        let outline: Vec<[f64; 2]> = pts2[..nb].to_vec();
+        let before = out.faces.len();
+        for tri in cdt.inner_faces() {
+            let v = tri.vertices().map(|h| h.fix().index());
+            let p = v.map(|i| pts2[i]);
+            let c = [
+                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+            ];
+            if !crate::planar::inside_polygon(c, &outline) {
+                continue;
+            }
+            let area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            let ccw = if area > 0.0 { v } else { [v[0], v[2], v[1]] };
+            let w = if flip { [ccw[0], ccw[2], ccw[1]] } else { ccw };
+            out.faces.push(w.map(|i| ids[i]));
+            out.origin.push(f);
+        }
+        // A polygon of nb corners with ni inner vertices has nb + 2 ni - 2 triangles.
+        if out.faces.len() - before != nb + 2 * inner.len() - 2 {
+            return Err("a cut face's pieces do not cover it");
+        }
+    }
+    Ok(out)
+}
+
+/// The exact sign of the 2D orientation (positive: counter-clockwise).
+fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+    let v = robust::orient2d(
+        robust::Coord { x: a[0], y: a[1] },
+        robust::Coord { x: b[0], y: b[1] },
+        robust::Coord { x: c[0], y: c[1] },
+    );
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
+}

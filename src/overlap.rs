@@ -1,0 +1,653 @@
+//! Resolving overlaps: the finished mesh made the boundary of its own union.
+//!
+//! The tube, splice and soma stages each build closed, outward surfaces whose
+//! parts do not cross *themselves*, but two parts can still cross each other:
+//! branches of the skeleton that pass through one another (a Purkinje cell has
+//! hundreds of such places), a sibling running inside its parent, a branch
+//! that a junction could not join (capped, left inside its parent). The
+//! membrane is the boundary of the union of all of them, so this pass computes
+//! that boundary exactly where parts cross:
+//!
+//! 1. **Crossings.** Pairs of faces of different parts that intersect, found
+//!    through a BVH over runs of consecutive faces of one part (faces of one
+//!    tube piece are proven not to cross each other when it is built, so pairs
+//!    inside one piece are never tested).
+//! 2. **Cuts.** Every edge that pierces a face gives one new vertex, shared by
+//!    both faces on the edge and by the pierced face; each crossing pair gives
+//!    one cut segment in both faces ([`crate::cut`]). Each cut face is
+//!    re-triangulated with spade's constrained Delaunay triangulation in its
+//!    own plane, its split edges and cut segments as constraints.
+//! 3. **Patches.** Faces connected without crossing a cut form patches. A patch
+//!    is kept when a point of it lies outside every *other* part: the winding
+//!    number of the rest of the surface there is 0 (three rays vote). That is
+//!    exactly the union's boundary; once anything is cut, it also drops parts
+//!    wholly inside others.
+//! 4. **Proof.** Every edge at a new vertex must be shared by exactly two kept
+//!    faces running it in opposite directions, and the kept pieces of cut faces
+//!    must not cross each other after the new vertices are rounded to the f32
+//!    output. If anything fails (a degenerate contact, three faces through one
+//!    point, a rounding flip), the mesh is left as it was and the report says
+//!    how many crossing pairs remain.
+
+use crate::bvh::{Aabb, Bvh};
+use crate::cut::{self, Cuts};
+use crate::geom::{self, P3};
+use crate::hash::{FastMap, FastSet};
+use crate::mesh::Mesh;
+
+/// Faces per BVH item: runs of consecutive faces of one part.
+const RUN: usize = 16;
+
+/// Owner of faces that belong to no proven part (bridges, somas, caps added
+/// late): compared with everything.
+pub const NO_OWNER: u32 = u32::MAX;
+
+/// What the pass did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Outcome {
+    /// Intersecting pairs of faces of different parts found.
+    pub pairs: u32,
+    /// Pairs still in the mesh (0 when the union was built).
+    pub pairs_left: u32,
+    /// Why the union was not built, if it was not.
+    pub failure: Option<&'static str>,
+}
+
+/// Replaces `mesh` by the boundary of its union where its parts cross.
+/// `owner[f]` is the part of face `f` ([`NO_OWNER`] for faces to compare with
+/// everything). Leaves the mesh unchanged on failure (see the module docs).
+pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
+    let unknown;
+    let owner = if owner.len() == mesh.faces.len() {
+        owner
+    } else {
+        unknown = vec![NO_OWNER; mesh.faces.len()];
+        &unknown
+    };
+    let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
+    let boxes = run_boxes(&pos, &mesh.faces, owner);
+    let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
+    let pairs = crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh);
+    let mut out = Outcome {
+        pairs: pairs.len() as u32,
+        pairs_left: pairs.len() as u32,
+        failure: None,
+    };
+    if pairs.is_empty() {
+        return out;
+    }
+    match union(mesh, &pos, &pairs, &boxes, &bvh) {
+        Ok((m, left, why)) => {
+            *mesh = m;
+            out.pairs_left = left;
+            out.failure = why;
+        }
+        Err(why) => out.failure = Some(why),
+    }
+    out
+}
+
+/// Runs of up to [`RUN`] consecutive faces with one owner, with their boxes.
+fn run_boxes(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Vec<(std::ops::Range<u32>, Aabb)> {
+    let mut runs = Vec::with_capacity(faces.len() / RUN + 1);
+    let mut start = 0usize;
+    while start < faces.len() {
+        let mut end = start + 1;
+        // Faces with no proven part are compared with every other face.
+        let run = if owner[start] == NO_OWNER { 1 } else { RUN };
+        while end < faces.len() && end - start < run && owner[end] == owner[start] {
+            end += 1;
+        }
+        let mut b = Aabb::EMPTY;
+        for f in &faces[start..end] {
+            for &k in f {
+                b.add_point(pos[k as usize]);
+            }
+        }
+        runs.push((start as u32..end as u32, b));
+        start = end;
+    }
+    runs
+}
+
+fn face_box(pos: &[P3], f: [u32; 3]) -> Aabb {
+    Aabb::of(&f.map(|k| pos[k as usize]))
+}
+
+/// All intersecting pairs of faces of different owners, sorted.
+fn crossing_pairs(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    owner: &[u32],
+    runs: &[(std::ops::Range<u32>, Aabb)],
+    bvh: &Bvh,
+) -> Vec<[u32; 2]> {
+    let run_owner = |i: u32| owner[runs[i as usize].0.start as usize];
+    let item_pairs = bvh.overlapping_pairs(|i, j| {
+        let (a, b) = (run_owner(i), run_owner(j));
+        a != b || a == NO_OWNER
+    });
+    let mut pairs = crate::parallel::flat_map_range(item_pairs.len(), |k| {
+        let [i, j] = item_pairs[k];
+        let (ri, rj) = (&runs[i as usize], &runs[j as usize]);
+        let mut out = Vec::new();
+        for a in ri.0.clone() {
+            let fa = faces[a as usize];
+            let ba = face_box(pos, fa);
+            if !ba.overlaps(&rj.1) {
+                continue;
+            }
+            let ta = fa.map(|k| pos[k as usize]);
+            for b in rj.0.clone() {
+                let fb = faces[b as usize];
+                if !ba.overlaps(&face_box(pos, fb)) {
+                    continue;
+                }
+                let tb = fb.map(|k| pos[k as usize]);
+                if crate::check::pair_intersects(fa, fb, ta, tb) {
+                    out.push([a.min(b), a.max(b)]);
+                }
+            }
+        }
+        out
+    });
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// Crossing pairs grouped into clusters: pairs joined through shared faces
+/// (an intersection curve runs through adjacent faces, so one curve is one
+/// cluster). Each cluster is cut, or left as it was, on its own.
+fn clusters_of(pairs: &[[u32; 2]]) -> Vec<Vec<[u32; 2]>> {
+    let mut index: FastMap<u32, u32> = FastMap::default();
+    for p in pairs {
+        for f in p {
+            let next = index.len() as u32;
+            index.entry(*f).or_insert(next);
+        }
+    }
+    let mut uf = crate::check::UnionFind::new(index.len());
+    for p in pairs {
+        uf.union(index[&p[0]], index[&p[1]]);
+    }
+    let mut number: FastMap<u32, usize> = FastMap::default();
+    let mut out: Vec<Vec<[u32; 2]>> = Vec::new();
+    for p in pairs {
+        let root = uf.find(index[&p[0]]);
+        let next = out.len();
+        let c = *number.entry(root).or_insert(next);
+        if c == out.len() {
+            out.push(Vec::new());
+        }
+        out[c].push(*p);
+    }
+    out
+}
+
+/// The union's boundary where it could be built: the mesh, the pairs left,
+/// and the first reason a cluster was left as it was.
+fn union(
+    mesh: &Mesh,
+    pos: &[P3],
+    pairs: &[[u32; 2]],
+    runs: &[(std::ops::Range<u32>, Aabb)],
+    bvh: &Bvh,
+) -> Result<(Mesh, u32, Option<&'static str>), &'static str> {
+    let clusters = clusters_of(pairs);
+    let built: Vec<Result<(Cuts, cut::Pieces), &'static str>> =
+        crate::parallel::map(&clusters, |c| {
+            let mut cuts = Cuts::find(pos, &mesh.faces, c)?;
+            let pieces = cut::retriangulate(pos, &mesh.faces, &mut cuts)?;
+            Ok((cuts, pieces))
+        });
+    let mut ok: Vec<bool> = built.iter().map(Result::is_ok).collect();
+    let mut failure = built.iter().find_map(|b| b.as_ref().err().copied());
+    let mut face_cluster: FastMap<u32, u32> = FastMap::default();
+    for (c, pairs) in clusters.iter().enumerate() {
+        for p in pairs {
+            face_cluster.insert(p[0], c as u32);
+            face_cluster.insert(p[1], c as u32);
+        }
+    }
+    let n_old = pos.len() as u32;
+    loop {
+        if !ok.contains(&true) {
+            return Err(failure.unwrap_or("no crossing could be cut"));
+        }
+        // New vertices numbered after the old ones, cluster by cluster.
+        let mut offset = vec![0u32; clusters.len()];
+        let mut all_pos: Vec<P3> = pos.to_vec();
+        let mut new_cluster: Vec<u32> = Vec::new();
+        let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
+        for (c, b) in built.iter().enumerate() {
+            if let (true, Ok((cuts, _))) = (ok[c], b) {
+                offset[c] = all_pos.len() as u32 - n_old;
+                all_pos.extend_from_slice(&cuts.points);
+                new_cluster.extend(std::iter::repeat_n(c as u32, cuts.points.len()));
+                let r = |k: u32| if k < n_old { k } else { k + offset[c] };
+                cut_edges.extend(cuts.cut_edges().map(|(a, b)| {
+                    let (a, b) = (r(a), r(b));
+                    (a.min(b), a.max(b))
+                }));
+            }
+        }
+        let cut_by_ok = |f: u32| face_cluster.get(&f).is_some_and(|&c| ok[c as usize]);
+        let mut faces: Vec<[u32; 3]> = Vec::with_capacity(mesh.faces.len() + pairs.len() * 8);
+        let mut origin: Vec<u32> = Vec::with_capacity(faces.capacity());
+        for (f, face) in mesh.faces.iter().enumerate() {
+            if !cut_by_ok(f as u32) {
+                faces.push(*face);
+                origin.push(f as u32);
+            }
+        }
+        let first_piece = faces.len();
+        for (c, b) in built.iter().enumerate() {
+            if let (true, Ok((_, pieces))) = (ok[c], b) {
+                let r = |k: u32| if k < n_old { k } else { k + offset[c] };
+                faces.extend(pieces.faces.iter().map(|f| f.map(r)));
+                origin.extend_from_slice(&pieces.origin);
+            }
+        }
+        let patch = patches(&faces, pos.len(), &cut_edges);
+        // A patch holding faces of a cluster left uncut may lie partly inside
+        // and partly outside: it is always kept (the proof then finds any
+        // cut next to it that this leaves inconsistent).
+        let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
+        let mut uncertain = vec![false; n_patches];
+        for f in 0..first_piece {
+            if face_cluster.contains_key(&origin[f]) {
+                uncertain[patch[f] as usize] = true;
+            }
+        }
+        let outside = classify(
+            &faces,
+            &all_pos,
+            &patch,
+            &origin,
+            &mesh.faces,
+            pos,
+            runs,
+            bvh,
+        );
+        let kept: Vec<bool> = patch
+            .iter()
+            .map(|&p| uncertain[p as usize] || outside[p as usize])
+            .collect();
+        let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
+        let cluster_of_face = |f: u32| face_cluster[&origin[f as usize]];
+        match prove(
+            &faces,
+            &kept,
+            &all_pos,
+            first_piece,
+            n_old,
+            cluster_of_vertex,
+            cluster_of_face,
+        ) {
+            Ok(()) => {
+                let left: usize = (0..clusters.len())
+                    .filter(|&c| !ok[c])
+                    .map(|c| clusters[c].len())
+                    .sum();
+                let out = assemble(mesh, &faces, &kept, &all_pos, |k| {
+                    if k < n_old {
+                        k
+                    } else {
+                        let c = cluster_of_vertex(k);
+                        let Ok((cuts, _)) = &built[c as usize] else {
+                            unreachable!("only cut clusters have new vertices")
+                        };
+                        cuts.point_label_vertex[(k - n_old - offset[c as usize]) as usize]
+                    }
+                });
+                return Ok((out, left as u32, failure));
+            }
+            Err((why, bad)) => {
+                failure.get_or_insert(why);
+                for c in bad {
+                    ok[c as usize] = false;
+                }
+            }
+        }
+    }
+}
+
+/// The kept faces with their used vertices renumbered; `label_from(k)` names
+/// the old vertex whose label vertex `k` takes.
+fn assemble(
+    mesh: &Mesh,
+    faces: &[[u32; 3]],
+    kept: &[bool],
+    all_pos: &[P3],
+    label_from: impl Fn(u32) -> u32,
+) -> Mesh {
+    let mut remap = vec![u32::MAX; all_pos.len()];
+    let mut vertices: Vec<[f32; 3]> = Vec::new();
+    let mut vertex_sample: Vec<u32> = Vec::new();
+    let labels = !mesh.vertex_sample.is_empty();
+    let mut out_faces = Vec::with_capacity(faces.len());
+    for (f, face) in faces.iter().enumerate() {
+        if !kept[f] {
+            continue;
+        }
+        out_faces.push(face.map(|k| {
+            let slot = &mut remap[k as usize];
+            if *slot == u32::MAX {
+                *slot = vertices.len() as u32;
+                let p = all_pos[k as usize];
+                vertices.push([p[0] as f32, p[1] as f32, p[2] as f32]);
+                if labels {
+                    vertex_sample.push(mesh.vertex_sample[label_from(k) as usize]);
+                }
+            }
+            *slot
+        }));
+    }
+    Mesh {
+        vertices,
+        faces: out_faces,
+        vertex_sample,
+        stats: mesh.stats.clone(),
+    }
+}
+
+/// Patch number of every face: faces joined through an old vertex (a cut
+/// never passes through one) or through an uncut edge at a new vertex.
+fn patches(faces: &[[u32; 3]], n_old_vertices: usize, cut_edges: &FastSet<(u32, u32)>) -> Vec<u32> {
+    let mut uf = crate::check::UnionFind::new(faces.len());
+    let mut first_face = vec![u32::MAX; n_old_vertices];
+    let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
+    for (f, face) in faces.iter().enumerate() {
+        let f = f as u32;
+        for e in 0..3 {
+            let v = face[e];
+            if (v as usize) < n_old_vertices {
+                let slot = &mut first_face[v as usize];
+                if *slot == u32::MAX {
+                    *slot = f;
+                } else {
+                    uf.union(*slot, f);
+                }
+                continue;
+            }
+            let w = face[(e + 1) % 3];
+            let key = (v.min(w), v.max(w));
+            if cut_edges.contains(&key) {
+                continue;
+            }
+            if let Some(&other) = new_edges.get(&key) {
+                uf.union(other, f);
+            } else {
+                new_edges.insert(key, f);
+            }
+        }
+    }
+    let mut number: FastMap<u32, u32> = FastMap::default();
+    (0..faces.len() as u32)
+        .map(|f| {
+            let r = uf.find(f);
+            let next = number.len() as u32;
+            *number.entry(r).or_insert(next)
+        })
+        .collect()
+}
+
+/// Whether each patch lies outside every other part: the winding number of
+/// the original surface without the face a sample point lies on, at that
+/// point, by a vote of three rays.
+#[allow(clippy::too_many_arguments)]
+fn classify(
+    faces: &[[u32; 3]],
+    all_pos: &[P3],
+    patch: &[u32],
+    origin: &[u32],
+    old_faces: &[[u32; 3]],
+    old_pos: &[P3],
+    runs: &[(std::ops::Range<u32>, Aabb)],
+    bvh: &Bvh,
+) -> Vec<bool> {
+    let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
+    // The largest face of each patch: its centroid is far from the cuts.
+    let mut best: Vec<(f64, u32)> = vec![(-1.0, u32::MAX); n_patches];
+    for (f, face) in faces.iter().enumerate() {
+        let t = face.map(|k| all_pos[k as usize]);
+        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
+        let area = crate::mesh::dot(n, n);
+        let slot = &mut best[patch[f] as usize];
+        if area > slot.0 {
+            *slot = (area, f as u32);
+        }
+    }
+    const DIRS: [P3; 3] = [
+        [0.482_246, 0.731_105, 0.482_617],
+        [-0.658_471, 0.301_927, -0.689_352],
+        [0.237_104, -0.872_664, 0.426_871],
+    ];
+    crate::parallel::map(&best, |&(_, f)| {
+        let t = faces[f as usize].map(|k| all_pos[k as usize]);
+        let c = [
+            (t[0][0] + t[1][0] + t[2][0]) / 3.0,
+            (t[0][1] + t[1][1] + t[2][1]) / 3.0,
+            (t[0][2] + t[1][2] + t[2][2]) / 3.0,
+        ];
+        let skip = origin[f as usize];
+        // Counted without the face the point lies on, a ray gives the winding
+        // number on the side of that face it leaves towards: so every ray
+        // leaves towards the outside.
+        let o = old_faces[skip as usize].map(|k| old_pos[k as usize]);
+        let n = crate::mesh::cross(crate::mesh::sub(o[1], o[0]), crate::mesh::sub(o[2], o[0]));
+        let outside = DIRS
+            .iter()
+            .map(|d| {
+                if crate::mesh::dot(*d, n) < 0.0 {
+                    d.map(|x| -x)
+                } else {
+                    *d
+                }
+            })
+            .filter(|d| winding(c, *d, skip, old_faces, old_pos, runs, bvh) == 0)
+            .count();
+        outside >= 2
+    })
+}
+
+/// Winding number of the faces other than `skip` at `c`, counted along the ray
+/// from `c` in direction `d` (+1 for each face the ray leaves through).
+fn winding(
+    c: P3,
+    d: P3,
+    skip: u32,
+    faces: &[[u32; 3]],
+    pos: &[P3],
+    runs: &[(std::ops::Range<u32>, Aabb)],
+    bvh: &Bvh,
+) -> i32 {
+    let mut w = 0;
+    bvh.for_each_on_ray(c, d, f64::INFINITY, |i| {
+        for f in runs[i as usize].0.clone() {
+            if f == skip {
+                continue;
+            }
+            let t = faces[f as usize].map(|k| pos[k as usize]);
+            if geom::ray_triangle(c, d, t).is_some_and(|s| s > 0.0) {
+                let n =
+                    crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
+                w += if crate::mesh::dot(n, d) > 0.0 { 1 } else { -1 };
+            }
+        }
+    });
+    w
+}
+
+/// Checks the kept faces around the new vertices: every edge there shared by
+/// two kept faces in opposite directions, one fan per vertex, and no two kept
+/// pieces crossing each other once rounded to f32. On failure, the clusters
+/// at fault.
+#[allow(clippy::too_many_arguments)]
+fn prove(
+    faces: &[[u32; 3]],
+    kept: &[bool],
+    all_pos: &[P3],
+    first_piece: usize,
+    n_old: u32,
+    cluster_of_vertex: impl Fn(u32) -> u32,
+    cluster_of_face: impl Fn(u32) -> u32,
+) -> Result<(), (&'static str, Vec<u32>)> {
+    let is_new = |v: u32| v >= n_old;
+    let mut uses: FastMap<(u32, u32), (u32, u32)> = FastMap::default();
+    // Around each new vertex: (next, previous) vertex of each kept face.
+    let mut fan: FastMap<u32, Vec<(u32, u32)>> = FastMap::default();
+    let pieces: Vec<u32> = (first_piece..faces.len())
+        .filter(|&f| kept[f])
+        .map(|f| f as u32)
+        .collect();
+    for &f in &pieces {
+        let face = faces[f as usize];
+        for e in 0..3 {
+            let (a, b) = (face[e], face[(e + 1) % 3]);
+            if !(is_new(a) || is_new(b)) {
+                continue;
+            }
+            let u = uses.entry((a.min(b), a.max(b))).or_insert((0, 0));
+            if a < b {
+                u.0 += 1;
+            } else {
+                u.1 += 1;
+            }
+            if is_new(a) {
+                fan.entry(a).or_default().push((b, face[(e + 2) % 3]));
+            }
+        }
+    }
+    let mut bad: Vec<u32> = uses
+        .iter()
+        .filter(|(_, u)| **u != (1, 1))
+        .map(|(e, _)| cluster_of_vertex(if is_new(e.0) { e.0 } else { e.1 }))
+        .collect();
+    let mut why = "the kept faces are not manifold along a cut";
+    // Two fans touching at a vertex pass the edge test: walk each vertex's
+    // faces from one to the next across shared edges; all must be reached.
+    for (&v, around) in &fan {
+        let (start, _) = around[0];
+        let mut next = start;
+        let mut steps = 0;
+        // The face whose previous vertex is `next` follows.
+        while let Some(&(n, _)) = around.iter().find(|x| x.1 == next) {
+            next = n;
+            steps += 1;
+            if next == start || steps > around.len() {
+                break;
+            }
+        }
+        if steps != around.len() {
+            bad.push(cluster_of_vertex(v));
+        }
+    }
+    let round = |p: P3| p.map(|x| f64::from(x as f32));
+    let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
+    if bad.is_empty() {
+        // No sliver the checker would call degenerate (as `check` measures it).
+        use crate::mesh::{cross, dot, sub};
+        for &f in &pieces {
+            let [a, b, c] = tri(f);
+            let (e1, e2, e3) = (sub(b, a), sub(c, a), sub(c, b));
+            let longest = dot(e1, e1).max(dot(e2, e2)).max(dot(e3, e3));
+            let n = cross(e1, e2);
+            if dot(n, n).sqrt() <= 1e-9 * longest {
+                bad.push(cluster_of_face(f));
+            }
+        }
+        why = "a cut face's piece is a sliver";
+    }
+    if bad.is_empty() {
+        // Rounded to f32, the kept pieces must still clear each other.
+        let bvh = Bvh::new(pieces.iter().map(|&f| Aabb::of(&tri(f))).collect());
+        let crossing = bvh.overlapping_pairs(|i, j| {
+            let (a, b) = (pieces[i as usize], pieces[j as usize]);
+            crate::check::pair_intersects(faces[a as usize], faces[b as usize], tri(a), tri(b))
+        });
+        for [i, j] in crossing {
+            bad.push(cluster_of_face(pieces[i as usize]));
+            bad.push(cluster_of_face(pieces[j as usize]));
+        }
+        why = "rounded to f32, two kept pieces cross";
+    }
+    if bad.is_empty() {
+        return Ok(());
+    }
+    bad.sort_unstable();
+    bad.dedup();
+    Err((why, bad))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::tests::cube;
+
+    /// Two unit cubes, the second moved by `d`, as one mesh with two parts.
+    fn two_cubes(d: [f32; 3]) -> (Mesh, Vec<u32>) {
+        let mut m = cube();
+        let mut other = cube();
+        for v in &mut other.vertices {
+            for (c, s) in v.iter_mut().zip(d) {
+                *c += s;
+            }
+        }
+        m.append(&other);
+        let owner = (0..m.faces.len() as u32).map(|f| f / 12).collect();
+        (m, owner)
+    }
+
+    #[test]
+    fn crossing_cubes_become_their_union() {
+        let d = [0.3, 0.4, 0.45];
+        let (mut m, owner) = two_cubes(d);
+        let out = resolve(&mut m, &owner);
+        assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
+        let r = m.check();
+        assert!(r.is_valid(), "{r}");
+        assert_eq!(r.components, 1);
+        // Exact: 2 − (1 − 0.3)(1 − 0.4)(1 − 0.45).
+        let overlap = (1.0 - 0.3) * (1.0 - 0.4) * (1.0 - 0.45);
+        assert!(
+            (m.volume() - (2.0 - overlap)).abs() < 1e-6,
+            "{}",
+            m.volume()
+        );
+        let area = 12.0 - 2.0 * (0.7 * 0.6 + 0.6 * 0.55 + 0.7 * 0.55);
+        assert!((m.area() - area).abs() < 1e-6, "{}", m.area());
+    }
+
+    #[test]
+    fn a_part_inside_another_without_crossings_is_left() {
+        let (mut m, owner) = two_cubes([0.0; 3]);
+        let mut inner = cube();
+        for v in &mut inner.vertices {
+            for c in v.iter_mut() {
+                *c = 0.25 + 0.5 * *c;
+            }
+        }
+        m.faces.truncate(12);
+        m.vertices.truncate(8);
+        m.append(&inner);
+        // No face crosses another: nothing to do, the mesh stays as it is.
+        let before = m.clone();
+        let out = resolve(&mut m, &owner);
+        assert_eq!(out, Outcome::default());
+        assert_eq!(m, before);
+    }
+
+    #[test]
+    fn apart_and_within_one_part_are_left_alone() {
+        let (mut m, _) = two_cubes([3.0, 0.0, 0.0]);
+        let before = m.clone();
+        assert_eq!(resolve(&mut m, &[]).pairs, 0);
+        assert_eq!(m, before);
+        // Crossing faces of one proven part are not looked at.
+        let (mut m, _) = two_cubes([0.3, 0.4, 0.45]);
+        let one = vec![0; m.faces.len()];
+        assert_eq!(resolve(&mut m, &one).pairs, 0);
+    }
+}
