@@ -211,71 +211,81 @@ fn union(
         }
     }
     let n_old = pos.len() as u32;
+    // Every cut cluster's new vertices and pieces, numbered once: old
+    // vertices, then each cluster's new ones; old faces, then the pieces.
+    // Each round only changes which of them are alive.
+    let mut offset = vec![0u32; clusters.len()];
+    let mut all_pos: Vec<P3> = pos.to_vec();
+    let mut new_cluster: Vec<u32> = Vec::new();
+    let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
+    let mut faces: Vec<[u32; 3]> = mesh.faces.clone();
+    let mut origin: Vec<u32> = Vec::new();
+    let mut piece_cluster: Vec<u32> = Vec::new();
+    let first_piece = faces.len();
+    for (c, b) in built.iter().enumerate() {
+        if let Ok((cuts, pieces)) = b {
+            offset[c] = all_pos.len() as u32 - n_old;
+            all_pos.extend_from_slice(&cuts.points);
+            new_cluster.extend(std::iter::repeat_n(c as u32, cuts.points.len()));
+            let r = |k: u32| if k < n_old { k } else { k + offset[c] };
+            cut_edges.extend(cuts.cut_edges().map(|(a, b)| {
+                let (a, b) = (r(a), r(b));
+                (a.min(b), a.max(b))
+            }));
+            faces.extend(pieces.faces.iter().map(|f| f.map(r)));
+            origin.extend_from_slice(&pieces.origin);
+            piece_cluster.extend(std::iter::repeat_n(c as u32, pieces.faces.len()));
+        }
+    }
+    // The old face a face is (part of).
+    let origin_of = |f: usize| {
+        if f < first_piece {
+            f as u32
+        } else {
+            origin[f - first_piece]
+        }
+    };
+    let mut alive = vec![true; faces.len()];
     loop {
         if !ok.contains(&true) {
             return Err(failure.unwrap_or("no crossing could be cut"));
         }
-        // New vertices numbered after the old ones, cluster by cluster.
-        let mut offset = vec![0u32; clusters.len()];
-        let mut all_pos: Vec<P3> = pos.to_vec();
-        let mut new_cluster: Vec<u32> = Vec::new();
-        let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
-        for (c, b) in built.iter().enumerate() {
-            if let (true, Ok((cuts, _))) = (ok[c], b) {
-                offset[c] = all_pos.len() as u32 - n_old;
-                all_pos.extend_from_slice(&cuts.points);
-                new_cluster.extend(std::iter::repeat_n(c as u32, cuts.points.len()));
-                let r = |k: u32| if k < n_old { k } else { k + offset[c] };
-                cut_edges.extend(cuts.cut_edges().map(|(a, b)| {
-                    let (a, b) = (r(a), r(b));
-                    (a.min(b), a.max(b))
-                }));
-            }
+        for (f, a) in alive.iter_mut().enumerate() {
+            *a = if f < first_piece {
+                !face_cluster
+                    .get(&(f as u32))
+                    .is_some_and(|&c| ok[c as usize])
+            } else {
+                ok[piece_cluster[f - first_piece] as usize]
+            };
         }
-        let cut_by_ok = |f: u32| face_cluster.get(&f).is_some_and(|&c| ok[c as usize]);
-        let mut faces: Vec<[u32; 3]> = Vec::with_capacity(mesh.faces.len() + pairs.len() * 8);
-        let mut origin: Vec<u32> = Vec::with_capacity(faces.capacity());
-        for (f, face) in mesh.faces.iter().enumerate() {
-            if !cut_by_ok(f as u32) {
-                faces.push(*face);
-                origin.push(f as u32);
-            }
-        }
-        let first_piece = faces.len();
-        for (c, b) in built.iter().enumerate() {
-            if let (true, Ok((_, pieces))) = (ok[c], b) {
-                let r = |k: u32| if k < n_old { k } else { k + offset[c] };
-                faces.extend(pieces.faces.iter().map(|f| f.map(r)));
-                origin.extend_from_slice(&pieces.origin);
-            }
-        }
-        let patch = patches(&faces, pos.len(), &cut_edges);
+        let patch = patches(&faces, &alive, pos.len(), &cut_edges);
         // A patch holding faces of a cluster left uncut may lie partly inside
         // and partly outside: it is always kept (the proof then finds any
         // cut next to it that this leaves inconsistent).
         let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
         let mut uncertain = vec![false; n_patches];
-        for f in 0..first_piece {
-            if face_cluster.contains_key(&origin[f]) {
-                uncertain[patch[f] as usize] = true;
+        for f in face_cluster.keys() {
+            if alive[*f as usize] {
+                uncertain[patch[*f as usize] as usize] = true;
             }
         }
         let outside = classify(
             &faces,
+            &alive,
             &all_pos,
             &patch,
-            &origin,
+            &origin_of,
             &mesh.faces,
             pos,
             runs,
             bvh,
         );
-        let kept: Vec<bool> = patch
-            .iter()
-            .map(|&p| uncertain[p as usize] || outside[p as usize])
+        let kept: Vec<bool> = (0..faces.len())
+            .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
             .collect();
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
-        let cluster_of_face = |f: u32| face_cluster[&origin[f as usize]];
+        let cluster_of_face = |f: u32| face_cluster[&origin_of(f as usize)];
         match prove(
             &faces,
             &kept,
@@ -354,11 +364,19 @@ fn assemble(
 
 /// Patch number of every face: faces joined through an old vertex (a cut
 /// never passes through one) or through an uncut edge at a new vertex.
-fn patches(faces: &[[u32; 3]], n_old_vertices: usize, cut_edges: &FastSet<(u32, u32)>) -> Vec<u32> {
+fn patches(
+    faces: &[[u32; 3]],
+    alive: &[bool],
+    n_old_vertices: usize,
+    cut_edges: &FastSet<(u32, u32)>,
+) -> Vec<u32> {
     let mut uf = crate::check::UnionFind::new(faces.len());
     let mut first_face = vec![u32::MAX; n_old_vertices];
     let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
     for (f, face) in faces.iter().enumerate() {
+        if !alive[f] {
+            continue;
+        }
         let f = f as u32;
         for e in 0..3 {
             let v = face[e];
@@ -399,9 +417,10 @@ fn patches(faces: &[[u32; 3]], n_old_vertices: usize, cut_edges: &FastSet<(u32, 
 #[allow(clippy::too_many_arguments)]
 fn classify(
     faces: &[[u32; 3]],
+    alive: &[bool],
     all_pos: &[P3],
     patch: &[u32],
-    origin: &[u32],
+    origin_of: &(impl Fn(usize) -> u32 + Sync),
     old_faces: &[[u32; 3]],
     old_pos: &[P3],
     runs: &[(std::ops::Range<u32>, Aabb)],
@@ -411,6 +430,9 @@ fn classify(
     // The largest face of each patch: its centroid is far from the cuts.
     let mut best: Vec<(f64, u32)> = vec![(-1.0, u32::MAX); n_patches];
     for (f, face) in faces.iter().enumerate() {
+        if !alive[f] {
+            continue;
+        }
         let t = face.map(|k| all_pos[k as usize]);
         let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
         let area = crate::mesh::dot(n, n);
@@ -425,13 +447,16 @@ fn classify(
         [0.237_104, -0.872_664, 0.426_871],
     ];
     crate::parallel::map(&best, |&(_, f)| {
+        if f == u32::MAX {
+            return false; // a patch of dead faces only
+        }
         let t = faces[f as usize].map(|k| all_pos[k as usize]);
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
             (t[0][1] + t[1][1] + t[2][1]) / 3.0,
             (t[0][2] + t[1][2] + t[2][2]) / 3.0,
         ];
-        let skip = origin[f as usize];
+        let skip = origin_of(f as usize);
         // Counted without the face the point lies on, a ray gives the winding
         // number on the side of that face it leaves towards: so every ray
         // leaves towards the outside.
