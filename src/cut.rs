@@ -18,7 +18,7 @@
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::geom::{P3, orient3d, orient3d_sign};
+use crate::geom::{P3, orient2d_sign, orient3d, orient3d_sign};
 use crate::hash::{FastMap, FastSet};
 
 /// The cuts of a mesh: new vertices, and per cut face its pierced-by points
@@ -353,20 +353,4 @@ pub fn retriangulate(
         }
     }
     Ok(out)
-}
-
-/// The exact sign of the 2D orientation (positive: counter-clockwise).
-fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
-    let v = robust::orient2d(
-        robust::Coord { x: a[0], y: a[1] },
-        robust::Coord { x: b[0], y: b[1] },
-        robust::Coord { x: c[0], y: c[1] },
-    );
-    if v > 0.0 {
-        1
-    } else if v < 0.0 {
-        -1
-    } else {
-        0
-    }
 }

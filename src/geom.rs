@@ -50,7 +50,7 @@ pub fn orient3d_sign(a: P3, b: P3, c: P3, d: P3) -> i8 {
 
 /// The exact sign of the 2D orientation (positive: counter-clockwise).
 #[inline]
-fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
+pub(crate) fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     let v = robust::orient2d(c2(a), c2(b), c2(c));
     if v > 0.0 {
         1
