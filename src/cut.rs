@@ -11,15 +11,24 @@
 //! vertices are rounded to f32 at once, the precision of the output, and the
 //! re-triangulation works on those rounded points.
 //!
-//! Degenerate contacts (a vertex exactly on the other face's plane, an edge
-//! through an edge, two faces sharing a vertex and crossing) and triple points
-//! (two cut segments crossing inside a face) are refused with a reason; the
-//! caller then leaves the mesh as it was.
+//! Where an edge of each face passes (almost) through an edge of the other,
+//! the two piercings lie within a few f32 steps of each other: they become
+//! one vertex on both edges ([`MERGE_STEPS`]), since rounding them apart can
+//! put the one inside a face on the wrong side of the edge it nearly touches.
+//!
+//! Other degenerate contacts (a vertex exactly on the other face's plane, two
+//! faces sharing a vertex and crossing, a piercing that rounds onto a vertex)
+//! are refused with a reason; the caller then leaves those faces as they were
+//! and nudges them for another try.
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::geom::{P3, orient2d_sign, orient3d, orient3d_sign};
 use crate::hash::{FastMap, FastSet};
+
+/// New vertices closer than this many f32 steps (of their coordinates'
+/// magnitude) at an edge-edge crossing are one vertex.
+const MERGE_STEPS: f64 = 16.0;
 
 /// The cuts of a mesh: new vertices, and per cut face its pierced-by points
 /// and cut segments.
@@ -38,6 +47,8 @@ pub struct Cuts {
     faces: FastMap<u32, FaceCut>,
     /// Cut segments as (min, max) vertex pairs.
     cut_edges: FastSet<(u32, u32)>,
+    /// For each new vertex, the one it was merged into (itself if none).
+    merged: Vec<u32>,
 }
 
 #[derive(Debug, Default, Clone)]
@@ -60,7 +71,8 @@ impl Cuts {
             if fa.iter().any(|v| fb.contains(v)) {
                 return Err("crossing faces share a vertex");
             }
-            let mut ends: Vec<u32> = Vec::with_capacity(2);
+            // Each end with whether an edge of `fa` (rather than `fb`) made it.
+            let mut ends: Vec<(u32, bool)> = Vec::with_capacity(2);
             for (edges_of, face) in [(fa, b), (fb, a)] {
                 let f = faces[face as usize];
                 let t = f.map(|k| pos[k as usize]);
@@ -86,17 +98,53 @@ impl Cuts {
                             id
                         }
                     };
-                    ends.push(id);
+                    ends.push((id, face == b));
                 }
             }
-            let [p, q] = ends[..] else {
+            let [(p, from_a), (q, from_b)] = ends[..] else {
                 return Err("a crossing pair without exactly two piercings");
             };
-            cuts.cut_edges.insert((p.min(q), p.max(q)));
+            // An edge of each face passing (almost) through the other's edge:
+            // the cut runs through that edge-edge crossing, one vertex on both
+            // edges. Kept apart, f32 rounding can throw the point inside one
+            // face across the edge it nearly touches.
+            if from_a != from_b && cuts.nearly_equal(p, q) {
+                cuts.merge(p, q);
+            }
             cuts.faces.entry(a).or_default().segments.push(([p, q], b));
             cuts.faces.entry(b).or_default().segments.push(([p, q], a));
         }
         Ok(cuts)
+    }
+
+    /// Whether new vertices `p` and `q` lie within a few f32 steps.
+    fn nearly_equal(&self, p: u32, q: u32) -> bool {
+        let point = |k: u32| self.points[(k - self.n_old) as usize];
+        let (a, b) = (point(p), point(q));
+        let scale = a.iter().chain(&b).fold(0f64, |m, x| m.max(x.abs()));
+        let d = (0..3).fold(0f64, |m, i| m.max((a[i] - b[i]).abs()));
+        d <= MERGE_STEPS * scale * f64::from(f32::EPSILON)
+    }
+
+    /// Merges new vertex `q` into `p` (both stay numbered; `q` is unused).
+    fn merge(&mut self, p: u32, q: u32) {
+        let (p, q) = (self.rep(p), self.rep(q));
+        if p != q {
+            let (keep, gone) = (p.min(q), p.max(q));
+            self.merged[(gone - self.n_old) as usize] = keep;
+        }
+    }
+
+    /// The vertex `k` stands for after merges.
+    fn rep(&self, mut k: u32) -> u32 {
+        while k >= self.n_old {
+            let m = self.merged[(k - self.n_old) as usize];
+            if m == k {
+                break;
+            }
+            k = m;
+        }
+        k
     }
 
     /// New vertex where edge (u, v), u < v, pierces face `face` (corners `t`).
@@ -123,6 +171,7 @@ impl Cuts {
         }
         let id = self.n_old + self.points.len() as u32;
         self.points.push(p);
+        self.merged.push(id);
         self.point_label_vertex.push(u);
         self.edge_points.entry((u, v)).or_default().push((s, id));
         self.faces.entry(face).or_default().inner.push(id);
@@ -166,6 +215,7 @@ impl Cuts {
         }
         let id = self.n_old + self.points.len() as u32;
         self.points.push(p);
+        self.merged.push(id);
         self.point_label_vertex.push(faces[key[0] as usize][0]);
         Ok(id)
     }
@@ -240,10 +290,23 @@ pub fn retriangulate(
                 if a > b {
                     on_edge.reverse();
                 }
-                boundary.extend(on_edge.iter().map(|x| x.1));
+                boundary.extend(on_edge.iter().map(|x| cuts.rep(x.1)));
             }
         }
-        let mut inner = cut.inner.clone();
+        // Merged vertices: a point inside this face may now be on its edge,
+        // and a segment between two merged points is gone.
+        let mut inner: Vec<u32> = cut
+            .inner
+            .iter()
+            .map(|&k| cuts.rep(k))
+            .filter(|k| !boundary.contains(k))
+            .collect();
+        let segments: Vec<([u32; 2], u32)> = cut
+            .segments
+            .iter()
+            .map(|&(s, g)| (s.map(|k| cuts.rep(k)), g))
+            .filter(|(s, _)| s[0] != s[1])
+            .collect();
         let t = face.map(|k| pos[k as usize]);
         let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
         let axis = (0..3)
@@ -256,7 +319,7 @@ pub fn retriangulate(
             _ => [p[0], p[1]],
         };
         // Triple points: crossings of segments that come from different faces.
-        let segs = &cut.segments;
+        let segs = &segments;
         let mut splits: Vec<Vec<(f64, u32)>> = vec![Vec::new(); segs.len()];
         for i in 0..segs.len() {
             for j in i + 1..segs.len() {

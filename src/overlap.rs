@@ -25,9 +25,15 @@
 //! 4. **Proof.** Every edge at a new vertex must be shared by exactly two kept
 //!    faces running it in opposite directions, and the kept pieces of cut faces
 //!    must not cross each other after the new vertices are rounded to the f32
-//!    output. If anything fails (a degenerate contact, three faces through one
-//!    point, a rounding flip), the mesh is left as it was and the report says
-//!    how many crossing pairs remain.
+//!    output. Crossing pairs are grouped into clusters (one intersection curve
+//!    each); a cluster that fails (a degenerate contact, a rounding flip) is
+//!    left as it was while the others are cut.
+//! 5. **Nudges.** A contact is degenerate because f32 coordinates put points
+//!    exactly on each other's planes (tubes of one radius traced on a grid, a
+//!    flat cell with z = 0): the vertices of the clusters left uncut move by at
+//!    most [`NUDGE`] of their shortest edge, which puts them in general
+//!    position, and the pass runs again on its own output, up to [`ROUNDS`]
+//!    times. The report counts the crossing pairs still left after the last.
 
 use crate::bvh::{Aabb, Bvh};
 use crate::cut::{self, Cuts};
@@ -53,17 +59,44 @@ pub struct Outcome {
     pub failure: Option<&'static str>,
 }
 
+/// Rounds of the pass: after a round that leaves crossings uncut (their
+/// contact is degenerate or its pieces round badly), their vertices are nudged
+/// and the pass runs again on its own output.
+const ROUNDS: usize = 4;
+
+/// A nudge moves a vertex by up to this fraction of its shortest edge: far
+/// below what the output shows, far above the f32 rounding that made the
+/// contact degenerate.
+const NUDGE: f64 = 1e-3;
+
 /// Replaces `mesh` by the boundary of its union where its parts cross.
 /// `owner[f]` is the part of face `f` ([`NO_OWNER`] for faces to compare with
-/// everything). Leaves the mesh unchanged on failure (see the module docs).
+/// everything). Where a crossing cannot be cut, its faces are left as they
+/// were (see the module docs).
 pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
-    let unknown;
-    let owner = if owner.len() == mesh.faces.len() {
-        owner
+    let mut owner: Vec<u32> = if owner.len() == mesh.faces.len() {
+        owner.to_vec()
     } else {
-        unknown = vec![NO_OWNER; mesh.faces.len()];
-        &unknown
+        vec![NO_OWNER; mesh.faces.len()]
     };
+    let mut out = Outcome::default();
+    for round in 0..ROUNDS {
+        let (once, stuck) = resolve_once(mesh, &mut owner);
+        if round == 0 {
+            out.pairs = once.pairs;
+        }
+        out.pairs_left = once.pairs_left;
+        out.failure = once.failure;
+        if stuck.is_empty() || round + 1 == ROUNDS {
+            break;
+        }
+        nudge(mesh, &stuck, round as u64);
+    }
+    out
+}
+
+/// One round: the outcome, and the vertices of the crossings left uncut.
+fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>) -> (Outcome, Vec<u32>) {
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
     let boxes = run_boxes(&pos, &mesh.faces, owner);
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
@@ -74,17 +107,61 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
         failure: None,
     };
     if pairs.is_empty() {
-        return out;
+        return (out, Vec::new());
     }
-    match union(mesh, &pos, &pairs, &boxes, &bvh) {
-        Ok((m, left, why)) => {
-            *mesh = m;
-            out.pairs_left = left;
-            out.failure = why;
+    let all_stuck = || {
+        let mut v: Vec<u32> = pairs
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|&f| mesh.faces[f as usize]))
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    match union(mesh, owner, &pos, &pairs, &boxes, &bvh) {
+        Ok(built) => {
+            out.pairs_left = built.pairs_left;
+            out.failure = built.failure;
+            *mesh = built.mesh;
+            *owner = built.owner;
+            (out, built.stuck)
         }
-        Err(why) => out.failure = Some(why),
+        Err(why) => {
+            out.failure = Some(why);
+            (out, all_stuck())
+        }
     }
-    out
+}
+
+/// Moves each of `vertices` by a pseudo-random offset of up to [`NUDGE`]
+/// times its shortest edge (at least a few f32 steps), the same for every
+/// run: general position for contacts that f32 coordinates made degenerate.
+fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
+    let mut shortest = vec![f64::INFINITY; mesh.vertices.len()];
+    for f in &mesh.faces {
+        for e in 0..3 {
+            let (a, b) = (f[e] as usize, f[(e + 1) % 3] as usize);
+            let d = crate::mesh::sub(
+                mesh.vertices[a].map(f64::from),
+                mesh.vertices[b].map(f64::from),
+            );
+            let l = crate::mesh::dot(d, d).sqrt();
+            shortest[a] = shortest[a].min(l);
+            shortest[b] = shortest[b].min(l);
+        }
+    }
+    for &v in vertices {
+        let p = &mut mesh.vertices[v as usize];
+        let scale = p.iter().fold(0f32, |m, x| m.max(x.abs()));
+        let step = 8.0 * f64::from(scale.max(f32::MIN_POSITIVE)) * f64::from(f32::EPSILON);
+        let amp = (NUDGE * shortest[v as usize]).max(step);
+        let mut h = crate::hash::mix64(u64::from(v) ^ (round << 40) ^ 0x9e37_79b9_7f4a_7c15);
+        for c in p.iter_mut() {
+            h = crate::hash::mix64(h);
+            let unit = (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            *c = (f64::from(*c) + amp * unit) as f32;
+        }
+    }
 }
 
 /// Runs of up to [`RUN`] consecutive faces with one owner, with their boxes.
@@ -185,15 +262,28 @@ fn clusters_of(pairs: &[[u32; 2]]) -> Vec<Vec<[u32; 2]>> {
     out
 }
 
-/// The union's boundary where it could be built: the mesh, the pairs left,
-/// and the first reason a cluster was left as it was.
+/// What one round of the pass built.
+struct Built {
+    mesh: Mesh,
+    /// Part of each face of `mesh`.
+    owner: Vec<u32>,
+    /// Crossing pairs in clusters left uncut.
+    pairs_left: u32,
+    /// The first reason a cluster was left uncut.
+    failure: Option<&'static str>,
+    /// Vertices of the faces of clusters left uncut.
+    stuck: Vec<u32>,
+}
+
+/// The union's boundary where it could be built.
 fn union(
     mesh: &Mesh,
+    owner: &[u32],
     pos: &[P3],
     pairs: &[[u32; 2]],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
-) -> Result<(Mesh, u32, Option<&'static str>), &'static str> {
+) -> Result<Built, &'static str> {
     let clusters = clusters_of(pairs);
     let built: Vec<Result<(Cuts, cut::Pieces), &'static str>> =
         crate::parallel::map(&clusters, |c| {
@@ -300,18 +390,57 @@ fn union(
                     .filter(|&c| !ok[c])
                     .map(|c| clusters[c].len())
                     .sum();
-                let out = assemble(mesh, &faces, &kept, &all_pos, |k| {
-                    if k < n_old {
-                        k
-                    } else {
-                        let c = cluster_of_vertex(k);
-                        let Ok((cuts, _)) = &built[c as usize] else {
-                            unreachable!("only cut clusters have new vertices")
-                        };
-                        cuts.point_label_vertex[(k - n_old - offset[c as usize]) as usize]
+                let (out, out_owner) = assemble(
+                    mesh,
+                    &faces,
+                    &kept,
+                    &all_pos,
+                    |f| owner[origin_of(f) as usize],
+                    |k| {
+                        if k < n_old {
+                            k
+                        } else {
+                            let c = cluster_of_vertex(k);
+                            let Ok((cuts, _)) = &built[c as usize] else {
+                                unreachable!("only cut clusters have new vertices")
+                            };
+                            cuts.point_label_vertex[(k - n_old - offset[c as usize]) as usize]
+                        }
+                    },
+                );
+                // Uncut faces keep their vertices, renumbered by `assemble`.
+                let mut stuck: Vec<u32> = Vec::new();
+                let mut seen = FastSet::default();
+                for (c, pairs) in clusters.iter().enumerate() {
+                    if ok[c] {
+                        continue;
                     }
+                    for p in pairs {
+                        for &f in p {
+                            for k in mesh.faces[f as usize] {
+                                if seen.insert(k) {
+                                    stuck.push(k);
+                                }
+                            }
+                        }
+                    }
+                }
+                if !stuck.is_empty() {
+                    let renumber = renumbering(&faces, &kept, all_pos.len());
+                    stuck = stuck
+                        .iter()
+                        .map(|&k| renumber[k as usize])
+                        .filter(|&k| k != u32::MAX)
+                        .collect();
+                    stuck.sort_unstable();
+                }
+                return Ok(Built {
+                    mesh: out,
+                    owner: out_owner,
+                    pairs_left: left as u32,
+                    failure,
+                    stuck,
                 });
-                return Ok((out, left as u32, failure));
             }
             Err((why, bad)) => {
                 failure.get_or_insert(why);
@@ -323,43 +452,66 @@ fn union(
     }
 }
 
-/// The kept faces with their used vertices renumbered; `label_from(k)` names
-/// the old vertex whose label vertex `k` takes.
+/// New number of every vertex used by a kept face, in order of first use
+/// (`u32::MAX` for the others): the numbering [`assemble`] gives.
+fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) -> Vec<u32> {
+    let mut remap = vec![u32::MAX; n_vertices];
+    let mut next = 0;
+    for (face, _) in faces.iter().zip(kept).filter(|x| *x.1) {
+        for &k in face {
+            let slot = &mut remap[k as usize];
+            if *slot == u32::MAX {
+                *slot = next;
+                next += 1;
+            }
+        }
+    }
+    remap
+}
+
+/// The kept faces with their used vertices renumbered, and the part of each
+/// (`owner_of(f)` for face `f`); `label_from(k)` names the old vertex whose
+/// label vertex `k` takes.
 fn assemble(
     mesh: &Mesh,
     faces: &[[u32; 3]],
     kept: &[bool],
     all_pos: &[P3],
+    owner_of: impl Fn(usize) -> u32,
     label_from: impl Fn(u32) -> u32,
-) -> Mesh {
-    let mut remap = vec![u32::MAX; all_pos.len()];
-    let mut vertices: Vec<[f32; 3]> = Vec::new();
-    let mut vertex_sample: Vec<u32> = Vec::new();
+) -> (Mesh, Vec<u32>) {
+    let remap = renumbering(faces, kept, all_pos.len());
+    let n_used = remap.iter().filter(|&&k| k != u32::MAX).count();
+    let mut vertices: Vec<[f32; 3]> = vec![[0.0; 3]; n_used];
     let labels = !mesh.vertex_sample.is_empty();
-    let mut out_faces = Vec::with_capacity(faces.len());
-    for (f, face) in faces.iter().enumerate() {
-        if !kept[f] {
+    let mut vertex_sample: Vec<u32> = if labels { vec![0; n_used] } else { Vec::new() };
+    for (k, &to) in remap.iter().enumerate() {
+        if to == u32::MAX {
             continue;
         }
-        out_faces.push(face.map(|k| {
-            let slot = &mut remap[k as usize];
-            if *slot == u32::MAX {
-                *slot = vertices.len() as u32;
-                let p = all_pos[k as usize];
-                vertices.push([p[0] as f32, p[1] as f32, p[2] as f32]);
-                if labels {
-                    vertex_sample.push(mesh.vertex_sample[label_from(k) as usize]);
-                }
-            }
-            *slot
-        }));
+        let p = all_pos[k];
+        vertices[to as usize] = [p[0] as f32, p[1] as f32, p[2] as f32];
+        if labels {
+            vertex_sample[to as usize] = mesh.vertex_sample[label_from(k as u32) as usize];
+        }
     }
-    Mesh {
-        vertices,
-        faces: out_faces,
-        vertex_sample,
-        stats: mesh.stats.clone(),
+    let mut out_faces = Vec::with_capacity(faces.len());
+    let mut out_owner = Vec::with_capacity(faces.len());
+    for (f, face) in faces.iter().enumerate() {
+        if kept[f] {
+            out_faces.push(face.map(|k| remap[k as usize]));
+            out_owner.push(owner_of(f));
+        }
     }
+    (
+        Mesh {
+            vertices,
+            faces: out_faces,
+            vertex_sample,
+            stats: mesh.stats.clone(),
+        },
+        out_owner,
+    )
 }
 
 /// Patch number of every face: faces joined through an old vertex (a cut
@@ -643,6 +795,100 @@ mod tests {
         );
         let area = 12.0 - 2.0 * (0.7 * 0.6 + 0.6 * 0.55 + 0.7 * 0.55);
         assert!((m.area() - area).abs() < 1e-6, "{}", m.area());
+    }
+
+    #[test]
+    fn coplanar_faces_are_nudged_apart_and_joined() {
+        // Four faces of each cube lie in the planes of the other's: no
+        // crossing is in general position until the nudge.
+        let (mut m, owner) = two_cubes([0.5, 0.0, 0.0]);
+        let out = resolve(&mut m, &owner);
+        assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
+        let r = m.check();
+        assert!(r.is_valid(), "{r}");
+        assert_eq!(r.components, 1);
+        // The union is the box 1.5 × 1 × 1, up to the nudges (1e-3 of an edge).
+        assert!((m.volume() - 1.5).abs() < 1e-2, "{}", m.volume());
+        assert!((m.area() - 8.0).abs() < 2e-2, "{}", m.area());
+    }
+
+    /// A unit cube turned by a generic rotation `r` (rows), placed so that the
+    /// midpoint of its edge from corner 0 to corner 1 is at `at`.
+    fn turned_cube(r: [[f64; 3]; 3], at: [f64; 3]) -> Mesh {
+        let mut m = cube();
+        for v in &mut m.vertices {
+            let c = [f64::from(v[0]) - 0.5, f64::from(v[1]), f64::from(v[2])];
+            *v = std::array::from_fn(|i| {
+                (at[i] + r[i][0] * c[0] + r[i][1] * c[1] + r[i][2] * c[2]) as f32
+            });
+        }
+        m
+    }
+
+    #[test]
+    fn an_edge_through_an_edge_becomes_one_vertex() {
+        // The turned cube's edge passes through the middle of the unit cube's
+        // edge from (1, 1, 0) to (1, 1, 1): the cut goes through that point.
+        let (a, b, c) = (0.3f64, 0.5f64, 0.7f64);
+        let rx = [
+            [1.0, 0.0, 0.0],
+            [0.0, a.cos(), -a.sin()],
+            [0.0, a.sin(), a.cos()],
+        ];
+        let ry = [
+            [b.cos(), 0.0, b.sin()],
+            [0.0, 1.0, 0.0],
+            [-b.sin(), 0.0, b.cos()],
+        ];
+        let rz = [
+            [c.cos(), -c.sin(), 0.0],
+            [c.sin(), c.cos(), 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let mul = |p: [[f64; 3]; 3], q: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+            std::array::from_fn(|i| {
+                std::array::from_fn(|j| (0..3).map(|k| p[i][k] * q[k][j]).sum())
+            })
+        };
+        let r = mul(rz, mul(ry, rx));
+        let at = [1.0, 1.0, 0.5];
+        let mut m = cube();
+        m.append(&turned_cube(r, at));
+        let owner: Vec<u32> = (0..m.faces.len() as u32).map(|f| f / 12).collect();
+        let out = resolve(&mut m, &owner);
+        assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
+        let rep = m.check();
+        assert!(rep.is_valid(), "{rep}");
+        assert_eq!(rep.components, 1);
+        // The union's volume by sampling: inside the unit cube, or inside the
+        // turned one (its local coordinates in [0, 1]³).
+        let inside = |p: [f64; 3]| {
+            if p.iter().all(|x| (0.0..=1.0).contains(x)) {
+                return true;
+            }
+            let d = [p[0] - at[0], p[1] - at[1], p[2] - at[2]];
+            let l: [f64; 3] = std::array::from_fn(|j| (0..3).map(|i| r[i][j] * d[i]).sum());
+            [l[0] + 0.5, l[1], l[2]]
+                .iter()
+                .all(|x| (0.0..=1.0).contains(x))
+        };
+        let (lo, hi) = (-1.0, 3.0);
+        let n = 400_000u64;
+        let hits = (0..n)
+            .filter(|&i| {
+                let p: [f64; 3] = std::array::from_fn(|k| {
+                    let h = crate::hash::mix64(i * 3 + k as u64);
+                    lo + (hi - lo) * ((h >> 11) as f64 / (1u64 << 53) as f64)
+                });
+                inside(p)
+            })
+            .count();
+        let want = (hi - lo).powi(3) * hits as f64 / n as f64;
+        assert!(
+            (m.volume() / want - 1.0).abs() < 0.02,
+            "{} against {want}",
+            m.volume()
+        );
     }
 
     #[test]

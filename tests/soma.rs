@@ -146,20 +146,23 @@ fn a_neurite_thicker_than_the_soma() {
     assert_cell(&m, 0.03, "thick neurite");
 }
 
-/// Every real file: closed, manifold, outward; at most one component per tree
-/// plus one per junction that had to be left detached (so nothing else is
-/// loose; crossing trees and detached branches merge in the overlap pass).
+/// Every real file: closed, manifold, outward, no self-intersection made by
+/// the construction (skeleton overlaps are counted apart by `check_with`); at
+/// most one component per tree plus one per junction that had to be left
+/// detached (so nothing else is loose; crossing trees and detached branches
+/// merge in the overlap pass).
 #[test]
 fn every_real_file_is_one_surface_per_tree() {
     for f in common::real_files() {
         let m = Morphology::from_swc(&f).expect("reads");
         let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
-        let r = mesh.view().check_topology();
+        let r = mesh.check_with(&m);
         let what = f.display();
         assert!(
             r.is_closed() && r.is_manifold() && r.is_outward(),
             "{what}\n{r}"
         );
+        assert_eq!(r.construction_intersections, Some(0), "{what}\n{r}");
         assert!(
             r.components <= m.trees().len() + mesh.stats.junctions_detached as usize,
             "{what}: {} components, {:?}",
