@@ -30,6 +30,25 @@ use crate::hash::{FastMap, FastSet};
 /// magnitude) at an edge-edge crossing are one vertex.
 const MERGE_STEPS: f64 = 16.0;
 
+/// Why a cluster of crossings could not be cut, and the faces at fault (the
+/// ones to nudge before trying again).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    /// The reason, for the report.
+    pub why: &'static str,
+    /// Old faces where it happened.
+    pub faces: Vec<u32>,
+}
+
+impl Refusal {
+    fn new(why: &'static str, faces: &[u32]) -> Refusal {
+        Refusal {
+            why,
+            faces: faces.to_vec(),
+        }
+    }
+}
+
 /// The cuts of a mesh: new vertices, and per cut face its pierced-by points
 /// and cut segments.
 #[derive(Debug, Default)]
@@ -49,6 +68,8 @@ pub struct Cuts {
     cut_edges: FastSet<(u32, u32)>,
     /// For each new vertex, the one it was merged into (itself if none).
     merged: Vec<u32>,
+    /// New vertices another one was merged into.
+    merged_once: FastSet<u32>,
 }
 
 #[derive(Debug, Default, Clone)]
@@ -60,7 +81,7 @@ struct FaceCut {
 
 impl Cuts {
     /// The cuts of `faces` for the crossing `pairs`.
-    pub fn find(pos: &[P3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Cuts, &'static str> {
+    pub fn find(pos: &[P3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Cuts, Refusal> {
         let mut cuts = Cuts {
             n_old: pos.len() as u32,
             ..Cuts::default()
@@ -69,7 +90,7 @@ impl Cuts {
         for &[a, b] in pairs {
             let (fa, fb) = (faces[a as usize], faces[b as usize]);
             if fa.iter().any(|v| fb.contains(v)) {
-                return Err("crossing faces share a vertex");
+                return Err(Refusal::new("crossing faces share a vertex", &[a, b]));
             }
             // Each end with whether an edge of `fa` (rather than `fb`) made it.
             let mut ends: Vec<(u32, bool)> = Vec::with_capacity(2);
@@ -93,7 +114,9 @@ impl Cuts {
                     let id = match ids.get(&key) {
                         Some(&id) => id,
                         None => {
-                            let id = cuts.pierce(pos, u, v, face, t)?;
+                            let id = cuts
+                                .pierce(pos, u, v, face, t)
+                                .map_err(|why| Refusal::new(why, &[a, b]))?;
                             ids.insert(key, id);
                             id
                         }
@@ -102,7 +125,10 @@ impl Cuts {
                 }
             }
             let [(p, from_a), (q, from_b)] = ends[..] else {
-                return Err("a crossing pair without exactly two piercings");
+                return Err(Refusal::new(
+                    "a crossing pair without exactly two piercings",
+                    &[a, b],
+                ));
             };
             // An edge of each face passing (almost) through the other's edge:
             // the cut runs through that edge-edge crossing, one vertex on both
@@ -126,13 +152,23 @@ impl Cuts {
         d <= MERGE_STEPS * scale * f64::from(f32::EPSILON)
     }
 
-    /// Merges new vertex `q` into `p` (both stay numbered; `q` is unused).
+    /// Merges new vertices `p` and `q` into one (the lower number; the other
+    /// stays numbered but unused). A vertex is merged at most once: a chain of
+    /// merges means the cut passes within a few f32 steps of an old vertex,
+    /// where the merged vertex could land on two edges of one face; that
+    /// contact is left to the nudge.
     fn merge(&mut self, p: u32, q: u32) {
-        let (p, q) = (self.rep(p), self.rep(q));
-        if p != q {
-            let (keep, gone) = (p.min(q), p.max(q));
-            self.merged[(gone - self.n_old) as usize] = keep;
+        if self.rep(p) != p || self.rep(q) != q || self.merged_into(p) || self.merged_into(q) {
+            return;
         }
+        let (keep, gone) = (p.min(q), p.max(q));
+        self.merged[(gone - self.n_old) as usize] = keep;
+        self.merged_once.insert(keep);
+    }
+
+    /// Whether another vertex was merged into `k`.
+    fn merged_into(&self, k: u32) -> bool {
+        self.merged_once.contains(&k)
     }
 
     /// The vertex `k` stands for after merges.
@@ -267,11 +303,7 @@ pub struct Pieces {
 /// Where two cut segments of a face cross, three faces meet in one point: it
 /// becomes a new vertex (keyed by the three faces, placed where their planes
 /// meet) that splits both segments, in each of the three faces.
-pub fn retriangulate(
-    pos: &[P3],
-    faces: &[[u32; 3]],
-    cuts: &mut Cuts,
-) -> Result<Pieces, &'static str> {
+pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<Pieces, Refusal> {
     let mut order: Vec<u32> = cuts.faces.keys().copied().collect();
     order.sort_unstable();
     let mut triples: FastMap<[u32; 3], u32> = FastMap::default();
@@ -307,6 +339,12 @@ pub fn retriangulate(
             .map(|&(s, g)| (s.map(|k| cuts.rep(k)), g))
             .filter(|(s, _)| s[0] != s[1])
             .collect();
+        // This face and every face cutting it.
+        let at_fault = |why| {
+            let mut at: Vec<u32> = vec![f];
+            at.extend(segments.iter().map(|x| x.1));
+            Refusal { why, faces: at }
+        };
         let t = face.map(|k| pos[k as usize]);
         let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
         let axis = (0..3)
@@ -338,14 +376,19 @@ pub fn retriangulate(
                     continue;
                 }
                 if o.contains(&0) {
-                    return Err("two cut segments touch inside a face");
+                    return Err(Refusal::new(
+                        "two cut segments touch inside a face",
+                        &[f, g, h],
+                    ));
                 }
                 let mut key = [f, g, h];
                 key.sort_unstable();
                 let id = match triples.get(&key) {
                     Some(&id) => id,
                     None => {
-                        let id = cuts.triple_point(pos, faces, key)?;
+                        let id = cuts
+                            .triple_point(pos, faces, key)
+                            .map_err(|why| Refusal::new(why, &key))?;
                         triples.insert(key, id);
                         id
                     }
@@ -364,7 +407,9 @@ pub fn retriangulate(
         let ids: Vec<u32> = boundary.iter().chain(&inner).copied().collect();
         let local: FastMap<u32, usize> = ids.iter().enumerate().map(|(i, &k)| (k, i)).collect();
         if local.len() != ids.len() {
-            return Err("a new vertex is both on an edge and inside a face");
+            return Err(at_fault(
+                "a new vertex is both on an edge and inside a face",
+            ));
         }
         let pts2: Vec<[f64; 2]> = ids.iter().map(|&k| flat(cuts.at(pos, k))).collect();
         let nb = boundary.len();
@@ -384,12 +429,12 @@ pub fn retriangulate(
         let points: Vec<Point2<f64>> = pts2.iter().map(|p| Point2::new(p[0], p[1])).collect();
         let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
             ConstrainedDelaunayTriangulation::try_bulk_load_cdt(points, edges, |_| conflict = true)
-                .map_err(|_| "a cut face cannot be triangulated")?;
+                .map_err(|_| at_fault("a cut face cannot be triangulated"))?;
         if conflict {
-            return Err("cut segments cross inside a face after rounding");
+            return Err(at_fault("cut segments cross inside a face after rounding"));
         }
         if cdt.num_vertices() != ids.len() {
-            return Err("two new vertices round to one point");
+            return Err(at_fault("two new vertices round to one point"));
         }
         let outline: Vec<[f64; 2]> = pts2[..nb].to_vec();
         let before = out.faces.len();
@@ -412,7 +457,7 @@ pub fn retriangulate(
         }
         // A polygon of nb corners with ni inner vertices has nb + 2 ni - 2 triangles.
         if out.faces.len() - before != nb + 2 * inner.len() - 2 {
-            return Err("a cut face's pieces do not cover it");
+            return Err(at_fault("a cut face's pieces do not cover it"));
         }
     }
     Ok(out)

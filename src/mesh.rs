@@ -23,7 +23,8 @@ pub struct BuildStats {
     /// Junctions built by the paper's splice after moving the secondary's first
     /// contour further out.
     pub junctions_moved: u32,
-    /// Junctions built by the fallback.
+    /// Junctions built by the fallback: the secondary reaches back into its
+    /// parent and the overlap pass joins them as their union.
     pub junctions_fallback: u32,
     /// Branches that could not be joined and stay separate closed components.
     pub junctions_detached: u32,

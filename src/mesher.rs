@@ -137,6 +137,7 @@ pub fn splice_all(stage: &mut TubeStage, params: &Params) {
         match splicer.join(&stage.tubes, join) {
             Method::Paper => stage.stats.junctions_paper += 1,
             Method::Moved => stage.stats.junctions_moved += 1,
+            Method::Fallback => stage.stats.junctions_fallback += 1,
             Method::Detached => stage.stats.junctions_detached += 1,
         }
     }

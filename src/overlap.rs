@@ -61,8 +61,11 @@ pub struct Outcome {
 
 /// Rounds of the pass: after a round that leaves crossings uncut (their
 /// contact is degenerate or its pieces round badly), their vertices are nudged
-/// and the pass runs again on its own output.
-const ROUNDS: usize = 4;
+/// and the pass runs again on its own output. The first nudge moves every
+/// vertex of the clusters left uncut (a flat or grid-aligned cell has
+/// degenerate contacts all along a curve); later ones only those of the faces
+/// at fault, so a large cluster is not shaken into new trouble elsewhere.
+const ROUNDS: usize = 6;
 
 /// A nudge moves a vertex by up to this fraction of its shortest edge: far
 /// below what the output shows, far above the f32 rounding that made the
@@ -81,7 +84,7 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
     };
     let mut out = Outcome::default();
     for round in 0..ROUNDS {
-        let (once, stuck) = resolve_once(mesh, &mut owner);
+        let (once, stuck) = resolve_once(mesh, &mut owner, round == 0);
         if round == 0 {
             out.pairs = once.pairs;
         }
@@ -95,8 +98,9 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
     out
 }
 
-/// One round: the outcome, and the vertices of the crossings left uncut.
-fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>) -> (Outcome, Vec<u32>) {
+/// One round: the outcome, and the vertices to nudge: of every face of the
+/// clusters left uncut (`whole`) or only of the faces at fault.
+fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>, whole: bool) -> (Outcome, Vec<u32>) {
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
     let boxes = run_boxes(&pos, &mesh.faces, owner);
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
@@ -109,16 +113,7 @@ fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>) -> (Outcome, Vec<u32>) {
     if pairs.is_empty() {
         return (out, Vec::new());
     }
-    let all_stuck = || {
-        let mut v: Vec<u32> = pairs
-            .iter()
-            .flat_map(|p| p.iter().flat_map(|&f| mesh.faces[f as usize]))
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
-    match union(mesh, owner, &pos, &pairs, &boxes, &bvh) {
+    match union(mesh, owner, &pos, &pairs, &boxes, &bvh, whole) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
@@ -126,11 +121,24 @@ fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>) -> (Outcome, Vec<u32>) {
             *owner = built.owner;
             (out, built.stuck)
         }
-        Err(why) => {
+        Err((why, culprits)) => {
             out.failure = Some(why);
-            (out, all_stuck())
+            let faces: Vec<u32> = if whole {
+                pairs.iter().flatten().copied().collect()
+            } else {
+                culprits
+            };
+            (out, vertices_of(&mesh.faces, &faces))
         }
     }
+}
+
+/// The vertices of `faces[f]` for each `f` in `which`, sorted, once each.
+fn vertices_of(faces: &[[u32; 3]], which: &[u32]) -> Vec<u32> {
+    let mut v: Vec<u32> = which.iter().flat_map(|&f| faces[f as usize]).collect();
+    v.sort_unstable();
+    v.dedup();
+    v
 }
 
 /// Moves each of `vertices` by a pseudo-random offset of up to [`NUDGE`]
@@ -271,7 +279,7 @@ struct Built {
     pairs_left: u32,
     /// The first reason a cluster was left uncut.
     failure: Option<&'static str>,
-    /// Vertices of the faces of clusters left uncut.
+    /// Vertices to nudge (of faces of clusters left uncut).
     stuck: Vec<u32>,
 }
 
@@ -283,16 +291,23 @@ fn union(
     pairs: &[[u32; 2]],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
-) -> Result<Built, &'static str> {
+    whole: bool,
+) -> Result<Built, (&'static str, Vec<u32>)> {
     let clusters = clusters_of(pairs);
-    let built: Vec<Result<(Cuts, cut::Pieces), &'static str>> =
+    let built: Vec<Result<(Cuts, cut::Pieces), cut::Refusal>> =
         crate::parallel::map(&clusters, |c| {
             let mut cuts = Cuts::find(pos, &mesh.faces, c)?;
             let pieces = cut::retriangulate(pos, &mesh.faces, &mut cuts)?;
             Ok((cuts, pieces))
         });
     let mut ok: Vec<bool> = built.iter().map(Result::is_ok).collect();
-    let mut failure = built.iter().find_map(|b| b.as_ref().err().copied());
+    let mut failure = built.iter().find_map(|b| b.as_ref().err().map(|r| r.why));
+    // Old faces where a cluster failed: the ones to nudge for another round.
+    let mut culprits: Vec<u32> = built
+        .iter()
+        .filter_map(|b| b.as_ref().err())
+        .flat_map(|r| r.faces.iter().copied())
+        .collect();
     let mut face_cluster: FastMap<u32, u32> = FastMap::default();
     for (c, pairs) in clusters.iter().enumerate() {
         for p in pairs {
@@ -338,7 +353,7 @@ fn union(
     let mut alive = vec![true; faces.len()];
     loop {
         if !ok.contains(&true) {
-            return Err(failure.unwrap_or("no crossing could be cut"));
+            return Err((failure.unwrap_or("no crossing could be cut"), culprits));
         }
         for (f, a) in alive.iter_mut().enumerate() {
             *a = if f < first_piece {
@@ -375,16 +390,7 @@ fn union(
             .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
             .collect();
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
-        let cluster_of_face = |f: u32| face_cluster[&origin_of(f as usize)];
-        match prove(
-            &faces,
-            &kept,
-            &all_pos,
-            first_piece,
-            n_old,
-            cluster_of_vertex,
-            cluster_of_face,
-        ) {
+        match prove(&faces, &kept, &all_pos, first_piece, n_old, &origin_of) {
             Ok(()) => {
                 let left: usize = (0..clusters.len())
                     .filter(|&c| !ok[c])
@@ -408,23 +414,15 @@ fn union(
                         }
                     },
                 );
-                // Uncut faces keep their vertices, renumbered by `assemble`.
-                let mut stuck: Vec<u32> = Vec::new();
-                let mut seen = FastSet::default();
-                for (c, pairs) in clusters.iter().enumerate() {
-                    if ok[c] {
-                        continue;
-                    }
-                    for p in pairs {
-                        for &f in p {
-                            for k in mesh.faces[f as usize] {
-                                if seen.insert(k) {
-                                    stuck.push(k);
-                                }
-                            }
-                        }
-                    }
+                // Faces of uncut clusters keep their vertices, renumbered by
+                // `assemble`.
+                if whole {
+                    culprits = (0..clusters.len())
+                        .filter(|&c| !ok[c])
+                        .flat_map(|c| clusters[c].iter().flatten().copied())
+                        .collect();
                 }
+                let mut stuck = vertices_of(&mesh.faces, &culprits);
                 if !stuck.is_empty() {
                     let renumber = renumbering(&faces, &kept, all_pos.len());
                     stuck = stuck
@@ -442,11 +440,12 @@ fn union(
                     stuck,
                 });
             }
-            Err((why, bad)) => {
+            Err((why, at_fault)) => {
                 failure.get_or_insert(why);
-                for c in bad {
-                    ok[c as usize] = false;
+                for &f in &at_fault {
+                    ok[face_cluster[&f] as usize] = false;
                 }
+                culprits.extend(at_fault);
             }
         }
     }
@@ -658,23 +657,21 @@ fn winding(
 }
 
 /// Checks the kept faces around the new vertices: every edge there shared by
-/// two kept faces in opposite directions, one fan per vertex, and no two kept
-/// pieces crossing each other once rounded to f32. On failure, the clusters
-/// at fault.
-#[allow(clippy::too_many_arguments)]
+/// two kept faces in opposite directions, one fan per vertex, no sliver, and
+/// no two kept pieces crossing each other once rounded to f32. On failure, the
+/// old faces at fault (`origin_of` names the old face of a piece).
 fn prove(
     faces: &[[u32; 3]],
     kept: &[bool],
     all_pos: &[P3],
     first_piece: usize,
     n_old: u32,
-    cluster_of_vertex: impl Fn(u32) -> u32,
-    cluster_of_face: impl Fn(u32) -> u32,
+    origin_of: &impl Fn(usize) -> u32,
 ) -> Result<(), (&'static str, Vec<u32>)> {
     let is_new = |v: u32| v >= n_old;
     let mut uses: FastMap<(u32, u32), (u32, u32)> = FastMap::default();
-    // Around each new vertex: (next, previous) vertex of each kept face.
-    let mut fan: FastMap<u32, Vec<(u32, u32)>> = FastMap::default();
+    // Around each new vertex: (next, previous) vertex and face of each kept face.
+    let mut fan: FastMap<u32, Vec<(u32, u32, u32)>> = FastMap::default();
     let pieces: Vec<u32> = (first_piece..faces.len())
         .filter(|&f| kept[f])
         .map(|f| f as u32)
@@ -693,32 +690,38 @@ fn prove(
                 u.1 += 1;
             }
             if is_new(a) {
-                fan.entry(a).or_default().push((b, face[(e + 2) % 3]));
+                fan.entry(a).or_default().push((b, face[(e + 2) % 3], f));
             }
         }
     }
+    // The old faces around new vertex `v`.
+    let around = |v: u32| -> Vec<u32> {
+        fan.get(&v)
+            .map(|x| x.iter().map(|t| origin_of(t.2 as usize)).collect())
+            .unwrap_or_default()
+    };
     let mut bad: Vec<u32> = uses
         .iter()
         .filter(|(_, u)| **u != (1, 1))
-        .map(|(e, _)| cluster_of_vertex(if is_new(e.0) { e.0 } else { e.1 }))
+        .flat_map(|(e, _)| around(if is_new(e.0) { e.0 } else { e.1 }))
         .collect();
     let mut why = "the kept faces are not manifold along a cut";
     // Two fans touching at a vertex pass the edge test: walk each vertex's
     // faces from one to the next across shared edges; all must be reached.
-    for (&v, around) in &fan {
-        let (start, _) = around[0];
+    for (&v, ring) in &fan {
+        let (start, _, _) = ring[0];
         let mut next = start;
         let mut steps = 0;
         // The face whose previous vertex is `next` follows.
-        while let Some(&(n, _)) = around.iter().find(|x| x.1 == next) {
+        while let Some(&(n, _, _)) = ring.iter().find(|x| x.1 == next) {
             next = n;
             steps += 1;
-            if next == start || steps > around.len() {
+            if next == start || steps > ring.len() {
                 break;
             }
         }
-        if steps != around.len() {
-            bad.push(cluster_of_vertex(v));
+        if steps != ring.len() {
+            bad.extend(around(v));
         }
     }
     let round = |p: P3| p.map(|x| f64::from(x as f32));
@@ -732,7 +735,7 @@ fn prove(
             let longest = dot(e1, e1).max(dot(e2, e2)).max(dot(e3, e3));
             let n = cross(e1, e2);
             if dot(n, n).sqrt() <= 1e-9 * longest {
-                bad.push(cluster_of_face(f));
+                bad.push(origin_of(f as usize));
             }
         }
         why = "a cut face's piece is a sliver";
@@ -745,8 +748,8 @@ fn prove(
             crate::check::pair_intersects(faces[a as usize], faces[b as usize], tri(a), tri(b))
         });
         for [i, j] in crossing {
-            bad.push(cluster_of_face(pieces[i as usize]));
-            bad.push(cluster_of_face(pieces[j as usize]));
+            bad.push(origin_of(pieces[i as usize] as usize));
+            bad.push(origin_of(pieces[j as usize] as usize));
         }
         why = "rounded to f32, two kept pieces cross";
     }

@@ -29,8 +29,13 @@
 //!
 //! * *moved*: the same construction from the secondary's second or third
 //!   contour (its first bands are dropped), and with a narrower or wider Q;
-//! * *detached*: the secondary keeps a cap at its start and stays a separate
-//!   closed component (overlapping its primary); reported so it is never hidden.
+//! * *fallback*: the secondary's start is extended back to the branch point
+//!   (as the skeleton's round cone between them is) and capped inside the
+//!   primary; the overlap pass ([`crate::overlap`]) then replaces the two by
+//!   the boundary of their union, a CSG join of exactly the crossing faces;
+//! * *detached*: when the branch point is not behind the secondary's start,
+//!   it keeps a cap there and stays a separate closed component unless it
+//!   crosses its primary; reported so it is never hidden.
 //!
 //! Deviations from the paper, and why: C_loc is centred at the ray's hit point
 //! rather than at the target's barycentre (a thin branch on a coarse primary
@@ -62,6 +67,9 @@ pub enum Method {
     Paper,
     /// The paper's splice from a later contour or with another Q size.
     Moved,
+    /// No splice was valid: the secondary reaches back into its parent and the
+    /// overlap pass makes the two one surface (their union).
+    Fallback,
     /// No valid junction: the secondary is capped and left separate.
     Detached,
 }
@@ -141,12 +149,135 @@ impl<'a> Splicer<'a> {
                 return if i == 0 { Method::Paper } else { Method::Moved };
             }
         }
-        // Detached: close the tube's start with a cap.
         let first = self.surface.tris.len() as u32;
+        if self.reach_back(join.tube, tube, join.toward) {
+            // Its faces cross the surface it reaches into: compared with
+            // everything by the overlap pass, which joins the two.
+            self.adopt(first, u32::MAX);
+            self.release(tube);
+            return Method::Fallback;
+        }
+        // Close the tube's start with a cap, and join it to the nearest
+        // surface by a capsule if there is one within reach.
         tube::cap(self.surface, &tube.rings[0], self.cap_rings, false);
         self.adopt(first, join.tube);
+        let first = self.surface.tris.len() as u32;
+        let joined = self.connector(join.tube, tube, join.toward);
+        self.adopt(first, u32::MAX);
         self.release(tube);
-        Method::Detached
+        if joined {
+            Method::Fallback
+        } else {
+            Method::Detached
+        }
+    }
+
+    /// The last fallback, for a capped start: a capsule from inside the cap to
+    /// just inside the surface nearest to the start (or the branch point, if
+    /// the way there enters a surface), thinner than both, which the overlap
+    /// pass merges with them. False (nothing built) without a surface in reach.
+    fn connector(&mut self, tube_id: u32, tube: &Tube, toward: DVec3) -> bool {
+        let r0 = tube.rings[0];
+        let dist = toward.distance(r0.center);
+        let reach = dist + 4.0 * r0.radius;
+        let Some(q) = self.nearest_surface_point(tube_id, r0.center, reach) else {
+            return false;
+        };
+        let way = (q - r0.center).normalize_or_zero();
+        if way == DVec3::ZERO {
+            return false;
+        }
+        // Inside the cap's dome (a hemisphere of radius r0 behind the ring).
+        let start = r0.center - 0.3 * r0.radius * r0.normal;
+        let end = q + way * (0.5 * r0.radius);
+        let clearance = self
+            .nearest_surface_point(tube_id, end, 4.0 * r0.radius)
+            .map_or(r0.radius, |p| p.distance(end));
+        let radius = (0.5 * clearance).clamp(0.1 * r0.radius, 0.5 * r0.radius);
+        tube::capsule(
+            self.surface,
+            start,
+            end,
+            radius,
+            r0.m,
+            r0.label,
+            self.cap_rings,
+        );
+        true
+    }
+
+    /// The fallback junction: the tube's open start is extended back into the
+    /// surface it grows from and capped there. The extension ends at the branch
+    /// point `toward` when the way there crosses that surface (as the round
+    /// cone between them would), else just inside the surface nearest to the
+    /// start (the parent's tube may not cover its own branch point where its
+    /// contours were skipped). Rings parallel to the first one, shrinking to
+    /// at most half the distance from the end to the nearest other surface,
+    /// stacked in disjoint slabs: the extension cannot cross itself. False
+    /// (and nothing built) when that end is not behind the first ring.
+    fn reach_back(&mut self, tube_id: u32, tube: &Tube, toward: DVec3) -> bool {
+        let r0 = tube.rings[0];
+        let dist = toward.distance(r0.center);
+        if dist <= 1e-9 * r0.radius {
+            return false;
+        }
+        let owner = &self.owner;
+        let crosses = self
+            .grid
+            .raycast(
+                self.surface,
+                r0.center,
+                (toward - r0.center) / dist,
+                dist,
+                |t| owner[t as usize] != tube_id,
+            )
+            .is_some();
+        // Where to end: the branch point when the way there enters the
+        // surface, else just inside the surface nearest to the start.
+        let mut ends = Vec::with_capacity(3);
+        if crosses {
+            ends.push(toward);
+        }
+        if let Some(q) = self.nearest_surface_point(tube_id, r0.center, dist + 4.0 * r0.radius) {
+            ends.push(q + (q - r0.center).normalize_or_zero() * r0.radius);
+        }
+        let behind = |end: &DVec3| (r0.center - *end).dot(r0.normal) >= 0.5 * r0.radius;
+        let Some(end) = ends.into_iter().find(behind) else {
+            return false;
+        };
+        let depth = (r0.center - end).dot(r0.normal);
+        let clearance = self
+            .nearest_surface_point(tube_id, end, 4.0 * r0.radius)
+            .map_or(r0.radius, |q| q.distance(end));
+        let r_end = (0.5 * clearance).clamp(0.2 * r0.radius, r0.radius);
+        let edge = std::f64::consts::TAU * r0.radius / f64::from(r0.m);
+        let steps = ((depth / edge).ceil() as u32).clamp(1, 64);
+        let offsets: Vec<DVec3> = (0..r0.m)
+            .map(|j| self.surface.pos[r0.vertex(j) as usize] - r0.center)
+            .collect();
+        let mut rings: Vec<tube::Ring> = Vec::with_capacity(steps as usize + 1);
+        for k in 0..steps {
+            let t = f64::from(k) / f64::from(steps);
+            let center = end + t * (r0.center - end);
+            let scale = (r_end + t * (r0.radius - r_end)) / r0.radius;
+            let first = self.surface.pos.len() as u32;
+            for w in &offsets {
+                self.surface.vertex(center + scale * *w, r0.label);
+            }
+            rings.push(tube::Ring {
+                center,
+                first,
+                radius: scale * r0.radius,
+                ..r0
+            });
+        }
+        rings.push(r0);
+        for w in rings.windows(2) {
+            let (a, b) = (tube::ring_loop(&w[0]), tube::ring_loop(&w[1]));
+            tube::connect_loops_about(self.surface, &a, &b, w[0].center, w[1].center, r0.normal);
+        }
+        tube::cap(self.surface, &rings[0], self.cap_rings, false);
+        true
     }
 
     /// Registers triangles from `first` to the end of the surface.

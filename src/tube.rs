@@ -120,6 +120,58 @@ pub fn place_ring(
     }
 }
 
+/// A closed capsule from `a` to `b` of (nominal) radius `radius`: parallel
+/// rings of `m` vertices about the straight axis, about one edge length
+/// apart, and a dome at each end. Convex, so it cannot cross itself; used to
+/// join two parts by their union where no splice was valid.
+pub fn capsule(
+    surface: &mut Surface,
+    a: DVec3,
+    b: DVec3,
+    radius: f64,
+    m: u32,
+    label: u32,
+    cap_rings: u32,
+) {
+    let axis = b - a;
+    let length = axis.length();
+    let normal = if length > 0.0 {
+        axis / length
+    } else {
+        DVec3::Z
+    };
+    let u = contour::any_perpendicular(normal);
+    let r = contour::polygon_radius(radius, m);
+    let edge = std::f64::consts::TAU * r / f64::from(m);
+    let steps = ((length / edge).ceil() as u32).clamp(1, 256);
+    let rings: Vec<Ring> = (0..=steps)
+        .map(|k| {
+            let center = a + axis * (f64::from(k) / f64::from(steps));
+            let first = surface.pos.len() as u32;
+            for p in contour::ring(center, normal, u, r, m) {
+                surface.vertex(p, label);
+            }
+            Ring {
+                center,
+                normal,
+                u,
+                radius: r,
+                skeleton_radius: radius,
+                m,
+                first,
+                label,
+                source: 0,
+                resampled: 0,
+            }
+        })
+        .collect();
+    for w in rings.windows(2) {
+        connect(surface, &w[0], &w[1]);
+    }
+    cap(surface, &rings[0], cap_rings, false);
+    cap(surface, &rings[steps as usize], cap_rings, true);
+}
+
 /// Connects ring `a` (behind) to ring `b` (in front).
 pub fn connect(surface: &mut Surface, a: &Ring, b: &Ring) {
     connect_loops(surface, &ring_loop(a), &ring_loop(b), a.center, b.center);
