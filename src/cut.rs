@@ -68,8 +68,8 @@ pub struct Cuts {
     cut_edges: FastSet<(u32, u32)>,
     /// For each new vertex, the one it was merged into (itself if none).
     merged: Vec<u32>,
-    /// New vertices another one was merged into.
-    merged_once: FastSet<u32>,
+    /// For each new vertex, whether it is in a merge already.
+    paired: Vec<bool>,
 }
 
 #[derive(Debug, Default, Clone)]
@@ -158,29 +158,23 @@ impl Cuts {
     /// where the merged vertex could land on two edges of one face; that
     /// contact is left to the nudge.
     fn merge(&mut self, p: u32, q: u32) {
-        if self.rep(p) != p || self.rep(q) != q || self.merged_into(p) || self.merged_into(q) {
+        let (i, j) = ((p - self.n_old) as usize, (q - self.n_old) as usize);
+        if self.paired[i] || self.paired[j] {
             return;
         }
+        self.paired[i] = true;
+        self.paired[j] = true;
         let (keep, gone) = (p.min(q), p.max(q));
         self.merged[(gone - self.n_old) as usize] = keep;
-        self.merged_once.insert(keep);
-    }
-
-    /// Whether another vertex was merged into `k`.
-    fn merged_into(&self, k: u32) -> bool {
-        self.merged_once.contains(&k)
     }
 
     /// The vertex `k` stands for after merges.
-    fn rep(&self, mut k: u32) -> u32 {
-        while k >= self.n_old {
-            let m = self.merged[(k - self.n_old) as usize];
-            if m == k {
-                break;
-            }
-            k = m;
+    fn rep(&self, k: u32) -> u32 {
+        if k < self.n_old {
+            k
+        } else {
+            self.merged[(k - self.n_old) as usize]
         }
-        k
     }
 
     /// New vertex where edge (u, v), u < v, pierces face `face` (corners `t`).
@@ -208,6 +202,7 @@ impl Cuts {
         let id = self.n_old + self.points.len() as u32;
         self.points.push(p);
         self.merged.push(id);
+        self.paired.push(false);
         self.point_label_vertex.push(u);
         self.edge_points.entry((u, v)).or_default().push((s, id));
         self.faces.entry(face).or_default().inner.push(id);
@@ -252,6 +247,7 @@ impl Cuts {
         let id = self.n_old + self.points.len() as u32;
         self.points.push(p);
         self.merged.push(id);
+        self.paired.push(false);
         self.point_label_vertex.push(faces[key[0] as usize][0]);
         Ok(id)
     }
@@ -438,19 +434,10 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
         }
         let outline: Vec<[f64; 2]> = pts2[..nb].to_vec();
         let before = out.faces.len();
-        for tri in cdt.inner_faces() {
-            let v = tri.vertices().map(|h| h.fix().index());
-            let p = v.map(|i| pts2[i]);
-            let c = [
-                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
-                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
-            ];
+        for (ccw, c) in crate::planar::triangles_with_centroids(&cdt, &pts2) {
             if !crate::planar::inside_polygon(c, &outline) {
                 continue;
             }
-            let area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-            let ccw = if area > 0.0 { v } else { [v[0], v[2], v[1]] };
             let w = if flip { [ccw[0], ccw[2], ccw[1]] } else { ccw };
             out.faces.push(w.map(|i| ids[i]));
             out.origin.push(f);

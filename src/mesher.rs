@@ -49,18 +49,23 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
-    let mut stage = build_tubes(morphology, params)?;
-    build_somas(&mut stage);
-    splice_all(&mut stage, params);
     let TubeStage {
         surface,
         stats,
         owner,
         ..
-    } = stage;
+    } = construct(morphology, params)?;
     let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
     resolve_overlaps(&mut mesh, &face_owner);
     Ok(mesh)
+}
+
+/// Steps 1 to 5: tubes, somas and junctions, before overlaps are resolved.
+fn construct(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
+    let mut stage = build_tubes(morphology, params)?;
+    build_somas(&mut stage);
+    splice_all(&mut stage, params);
+    Ok(stage)
 }
 
 /// Step 6: where parts of the mesh cross each other, the boundary of their
@@ -80,16 +85,13 @@ pub fn build(
     morphology: &Morphology,
     params: &Params,
 ) -> Result<(Surface, Vec<Branch>, Vec<Tube>, BuildStats)> {
-    let mut stage = build_tubes(morphology, params)?;
-    build_somas(&mut stage);
-    splice_all(&mut stage, params);
     let TubeStage {
         surface,
         branches,
         tubes,
         stats,
         ..
-    } = stage;
+    } = construct(morphology, params)?;
     Ok((surface, branches, tubes, stats))
 }
 

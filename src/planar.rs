@@ -25,6 +25,26 @@ pub fn inside_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
     inside
 }
 
+/// The inner triangles of `cdt`, built from `pts` in order, as
+/// counter-clockwise vertex indices with their centroids: what each caller
+/// needs to keep only the triangles inside its polygons.
+pub fn triangles_with_centroids<'a>(
+    cdt: &'a ConstrainedDelaunayTriangulation<Point2<f64>>,
+    pts: &'a [[f64; 2]],
+) -> impl Iterator<Item = ([usize; 3], [f64; 2])> + 'a {
+    cdt.inner_faces().map(move |face| {
+        let v = face.vertices().map(|h| h.fix().index());
+        let p = v.map(|i| pts[i]);
+        let c = [
+            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+        ];
+        let area =
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+        (if area > 0.0 { v } else { [v[0], v[2], v[1]] }, c)
+    })
+}
+
 /// Triangulates the region between the simple polygon `outer` and the polygon
 /// `inner` lying inside it, using only their vertices. Indices refer to `outer`
 /// followed by `inner`; triangles are counter-clockwise. `None` if the loops are
@@ -50,21 +70,11 @@ pub fn triangulate_annulus(outer: &[[f64; 2]], inner: &[[f64; 2]]) -> Option<Vec
     if conflict || cdt.num_vertices() != points.len() {
         return None;
     }
-    let mut tris = Vec::new();
-    for face in cdt.inner_faces() {
-        let v = face.vertices().map(|h| h.fix().index());
-        let p = v.map(|i| [points[i].x, points[i].y]);
-        let c = [
-            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
-            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
-        ];
-        if !inside_polygon(c, outer) || inside_polygon(c, inner) {
-            continue;
-        }
-        let area =
-            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-        tris.push(if area > 0.0 { v } else { [v[0], v[2], v[1]] });
-    }
+    let flat: Vec<[f64; 2]> = outer.iter().chain(inner).copied().collect();
+    let tris: Vec<[usize; 3]> = triangles_with_centroids(&cdt, &flat)
+        .filter(|(_, c)| inside_polygon(*c, outer) && !inside_polygon(*c, inner))
+        .map(|(v, _)| v)
+        .collect();
     // An annulus of n + m boundary vertices has exactly n + m triangles.
     (tris.len() == n_out + inner.len()).then_some(tris)
 }

@@ -242,13 +242,7 @@ fn build_unchecked(
         .map(|(&s, lp)| planar[s..s + lp.len()].to_vec())
         .collect();
     let mut faces: Vec<[usize; 3]> = Vec::with_capacity(2 * points.len());
-    for face in cdt.inner_faces() {
-        let v = face.vertices().map(|h| h.fix().index());
-        let p = v.map(|i| planar[i]);
-        let centroid = [
-            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
-            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
-        ];
+    for (v, centroid) in crate::planar::triangles_with_centroids(&cdt, &planar) {
         let keep = polygons.iter().enumerate().all(|(k, poly)| {
             let inside = crate::planar::inside_polygon(centroid, poly);
             if Some(k) == outer { inside } else { !inside }

@@ -30,12 +30,14 @@
 //! * *moved*: the same construction from the secondary's second or third
 //!   contour (its first bands are dropped), and with a narrower or wider Q;
 //! * *fallback*: the secondary's start is extended back to the branch point
-//!   (as the skeleton's round cone between them is) and capped inside the
-//!   primary; the overlap pass ([`crate::overlap`]) then replaces the two by
-//!   the boundary of their union, a CSG join of exactly the crossing faces;
-//! * *detached*: when the branch point is not behind the secondary's start,
-//!   it keeps a cap there and stays a separate closed component unless it
-//!   crosses its primary; reported so it is never hidden.
+//!   (as the skeleton's round cone between them is) or into the nearest
+//!   surface, and capped there; where neither end lies behind its first
+//!   contour, its start is capped and a thinner capsule reaches from the cap
+//!   into the nearest surface. The overlap pass ([`crate::overlap`]) then
+//!   replaces the crossing parts by the boundary of their union;
+//! * *detached*: with no other surface within reach, the secondary keeps a cap
+//!   at its start and stays a separate closed component; reported so it is
+//!   never hidden.
 //!
 //! Deviations from the paper, and why: C_loc is centred at the ray's hit point
 //! rather than at the target's barycentre (a thin branch on a coarse primary
@@ -173,27 +175,18 @@ impl<'a> Splicer<'a> {
     }
 
     /// The last fallback, for a capped start: a capsule from inside the cap to
-    /// just inside the surface nearest to the start (or the branch point, if
-    /// the way there enters a surface), thinner than both, which the overlap
-    /// pass merges with them. False (nothing built) without a surface in reach.
+    /// just inside the surface nearest to the start, thinner than both, which
+    /// the overlap pass merges with them. False (nothing built) without a
+    /// surface in reach.
     fn connector(&mut self, tube_id: u32, tube: &Tube, toward: DVec3) -> bool {
         let r0 = tube.rings[0];
-        let dist = toward.distance(r0.center);
-        let reach = dist + 4.0 * r0.radius;
-        let Some(q) = self.nearest_surface_point(tube_id, r0.center, reach) else {
+        let Some(end) = self.inside_nearest(tube_id, &r0, toward, 0.5) else {
             return false;
         };
-        let way = (q - r0.center).normalize_or_zero();
-        if way == DVec3::ZERO {
-            return false;
-        }
         // Inside the cap's dome (a hemisphere of radius r0 behind the ring).
         let start = r0.center - 0.3 * r0.radius * r0.normal;
-        let end = q + way * (0.5 * r0.radius);
-        let clearance = self
-            .nearest_surface_point(tube_id, end, 4.0 * r0.radius)
-            .map_or(r0.radius, |p| p.distance(end));
-        let radius = (0.5 * clearance).clamp(0.1 * r0.radius, 0.5 * r0.radius);
+        let radius =
+            (0.5 * self.clearance(tube_id, &r0, end)).clamp(0.1 * r0.radius, 0.5 * r0.radius);
         tube::capsule(
             self.surface,
             start,
@@ -234,22 +227,17 @@ impl<'a> Splicer<'a> {
             .is_some();
         // Where to end: the branch point when the way there enters the
         // surface, else just inside the surface nearest to the start.
-        let mut ends = Vec::with_capacity(3);
+        let mut ends = Vec::with_capacity(2);
         if crosses {
             ends.push(toward);
         }
-        if let Some(q) = self.nearest_surface_point(tube_id, r0.center, dist + 4.0 * r0.radius) {
-            ends.push(q + (q - r0.center).normalize_or_zero() * r0.radius);
-        }
+        ends.extend(self.inside_nearest(tube_id, &r0, toward, 1.0));
         let behind = |end: &DVec3| (r0.center - *end).dot(r0.normal) >= 0.5 * r0.radius;
         let Some(end) = ends.into_iter().find(behind) else {
             return false;
         };
         let depth = (r0.center - end).dot(r0.normal);
-        let clearance = self
-            .nearest_surface_point(tube_id, end, 4.0 * r0.radius)
-            .map_or(r0.radius, |q| q.distance(end));
-        let r_end = (0.5 * clearance).clamp(0.2 * r0.radius, r0.radius);
+        let r_end = (0.5 * self.clearance(tube_id, &r0, end)).clamp(0.2 * r0.radius, r0.radius);
         let edge = std::f64::consts::TAU * r0.radius / f64::from(r0.m);
         let steps = ((depth / edge).ceil() as u32).clamp(1, 64);
         let offsets: Vec<DVec3> = (0..r0.m)
@@ -278,6 +266,29 @@ impl<'a> Splicer<'a> {
         }
         tube::cap(self.surface, &rings[0], self.cap_rings, false);
         true
+    }
+
+    /// A point `depth` times `r0`'s radius beyond the surface point nearest to
+    /// `r0`'s centre (other than its own tube's), within reach of `toward`:
+    /// just inside that surface, seen from the ring.
+    fn inside_nearest(
+        &mut self,
+        tube_id: u32,
+        r0: &tube::Ring,
+        toward: DVec3,
+        depth: f64,
+    ) -> Option<DVec3> {
+        let reach = toward.distance(r0.center) + 4.0 * r0.radius;
+        let q = self.nearest_surface_point(tube_id, r0.center, reach)?;
+        let way = (q - r0.center).normalize_or_zero();
+        (way != DVec3::ZERO).then(|| q + way * (depth * r0.radius))
+    }
+
+    /// Distance from `p` to the nearest surface other than the tube's own,
+    /// looked for within four of `r0`'s radii (`r0`'s radius if none).
+    fn clearance(&mut self, tube_id: u32, r0: &tube::Ring, p: DVec3) -> f64 {
+        self.nearest_surface_point(tube_id, p, 4.0 * r0.radius)
+            .map_or(r0.radius, |q| q.distance(p))
     }
 
     /// Registers triangles from `first` to the end of the surface.
