@@ -214,7 +214,9 @@ impl<'a> Splicer<'a> {
         if dist <= 1e-9 * r0.radius {
             return false;
         }
-        let owner = &self.owner;
+        // Only surfaces already joined to their tree count, as for a splice's
+        // target: reaching into a descendant would join nothing to the tree.
+        let (owner, settled) = (&self.owner, &self.settled);
         let crosses = self
             .grid
             .raycast(
@@ -222,7 +224,10 @@ impl<'a> Splicer<'a> {
                 r0.center,
                 (toward - r0.center) / dist,
                 dist,
-                |t| owner[t as usize] != tube_id,
+                |t| {
+                    let o = owner[t as usize];
+                    o != tube_id && (o == u32::MAX || settled[o as usize])
+                },
             )
             .is_some();
         // Where to end: the branch point when the way there enters the
