@@ -1,0 +1,46 @@
+//! Time per pipeline stage on the given SWC files, best of 5 (developer tool;
+//! run with RAYON_NUM_THREADS=1 for one core).
+use std::time::Instant;
+
+fn main() {
+    let p = neuromesh::Params::default();
+    for path in std::env::args().skip(1) {
+        let mut best = [f64::INFINITY; 6];
+        let mut tris = 0;
+        for _ in 0..5 {
+            let mut t = Instant::now();
+            let mut lap = |k: usize, best: &mut [f64; 6]| {
+                best[k] = best[k].min(t.elapsed().as_secs_f64() * 1e3);
+                t = Instant::now();
+            };
+            let m = neuromesh::Morphology::from_swc(&path).expect("swc");
+            lap(0, &mut best);
+            let mut stage = neuromesh::mesher::build_tubes(&m, &p).expect("tubes");
+            lap(1, &mut best);
+            neuromesh::mesher::build_somas(&mut stage);
+            lap(2, &mut best);
+            neuromesh::mesher::splice_all(&mut stage, &p);
+            lap(3, &mut best);
+            let (mut mesh, owner) = stage.surface.into_mesh_with(stage.stats, stage.owner);
+            lap(4, &mut best);
+            neuromesh::mesher::resolve_overlaps(&mut mesh, &owner);
+            lap(5, &mut best);
+            tris = mesh.faces.len();
+        }
+        let total: f64 = best.iter().sum();
+        println!(
+            "{}: parse {:.1}  tubes {:.1}  somas {:.1}  splice {:.1}  mesh {:.1}  overlaps {:.1}  = {:.1} ms, {tris} tris",
+            std::path::Path::new(&path)
+                .file_name()
+                .unwrap()
+                .to_string_lossy(),
+            best[0],
+            best[1],
+            best[2],
+            best[3],
+            best[4],
+            best[5],
+            total
+        );
+    }
+}
