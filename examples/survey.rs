@@ -16,6 +16,11 @@ fn main() {
         .filter(|p| p.extension().is_some_and(|e| e == "swc"))
         .collect();
     files.sort();
+    // NEUROMESH_RESOLUTION overrides the resolution (to weigh speed against accuracy).
+    let mut params = neuromesh::Params::default();
+    if let Some(r) = std::env::var("NEUROMESH_RESOLUTION").ok().and_then(|v| v.parse().ok()) {
+        params = params.with_resolution(r);
+    }
     println!(
         "{:<52} {:>6} {:>8} {:>7} {:>5} {:>5} {:>4} {:>5} {:>4} {:>4} {:>6} {:>6} {:>6} {:>6}",
         "file",
@@ -43,7 +48,7 @@ fn main() {
             }
         };
         let t = Instant::now();
-        let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
+        let mesh = neuromesh::mesh_morphology(&m, &params).expect("mesh");
         let ms = t.elapsed().as_secs_f64() * 1e3;
         let r = mesh.check_with(&m);
         let u = r

@@ -284,7 +284,7 @@ impl<'a> Splicer<'a> {
         depth: f64,
     ) -> Option<DVec3> {
         let reach = toward.distance(r0.center) + 4.0 * r0.radius;
-        let q = self.nearest_surface_point(tube_id, r0.center, reach)?;
+        let q = self.nearest_surface_point(tube_id, r0.center, r0.radius, reach)?;
         let way = (q - r0.center).normalize_or_zero();
         (way != DVec3::ZERO).then(|| q + way * (depth * r0.radius))
     }
@@ -292,7 +292,7 @@ impl<'a> Splicer<'a> {
     /// Distance from `p` to the nearest surface other than the tube's own,
     /// looked for within four of `r0`'s radii (`r0`'s radius if none).
     fn clearance(&mut self, tube_id: u32, r0: &tube::Ring, p: DVec3) -> f64 {
-        self.nearest_surface_point(tube_id, p, 4.0 * r0.radius)
+        self.nearest_surface_point(tube_id, p, r0.radius, 4.0 * r0.radius)
             .map_or(r0.radius, |q| q.distance(p))
     }
 
@@ -359,11 +359,13 @@ impl<'a> Splicer<'a> {
             Aim::NearestSurface => self.nearest_surface_point(
                 tube_id,
                 toward,
+                c1.radius,
                 c1.center.distance(toward) + 4.0 * c1.radius,
             ),
             Aim::NearestToStart => self.nearest_surface_point(
                 tube_id,
                 c1.center,
+                c1.radius,
                 c1.center.distance(toward) + 4.0 * c1.radius,
             ),
             Aim::Backwards => None,
@@ -563,25 +565,43 @@ impl<'a> Splicer<'a> {
     }
 
     /// The point of a live triangle (not of tube `own`, not reserved) nearest to
-    /// `p`, within `reach`.
-    fn nearest_surface_point(&mut self, own: u32, p: DVec3, reach: f64) -> Option<DVec3> {
-        let query = Aabb::of(&[p.to_array()]).inflated(reach);
-        let mut best: Option<(f64, DVec3)> = None;
-        let (surface, owner, reserved) = (&*self.surface, &self.owner, &self.reserved);
-        let settled = &self.settled;
-        self.grid.for_each_near(surface, &query, |t| {
-            let o = owner[t as usize];
-            if o == own || reserved[t as usize] || (o != u32::MAX && !settled[o as usize]) {
-                return;
+    /// `p`, among those whose boxes come within `reach` of `p` (per axis).
+    ///
+    /// The search box starts at `first` and doubles until the best point found
+    /// lies within it: any nearer triangle then overlaps the box too, so the
+    /// answer is the one the whole `reach` box gives, at the cost of a box about
+    /// as large as the distance found (reaches span a whole branch's length).
+    fn nearest_surface_point(
+        &mut self,
+        own: u32,
+        p: DVec3,
+        first: f64,
+        reach: f64,
+    ) -> Option<DVec3> {
+        let mut half = first.min(reach).max(1e-12 * reach);
+        loop {
+            let query = Aabb::of(&[p.to_array()]).inflated(half);
+            let mut best: Option<(f64, DVec3)> = None;
+            let (surface, owner, reserved) = (&*self.surface, &self.owner, &self.reserved);
+            let settled = &self.settled;
+            self.grid.for_each_near(surface, &query, |t| {
+                let o = owner[t as usize];
+                if o == own || reserved[t as usize] || (o != u32::MAX && !settled[o as usize]) {
+                    return;
+                }
+                let f = surface.tris[t as usize];
+                let q =
+                    crate::geom::closest_point_on_triangle(p, f.map(|k| surface.pos[k as usize]));
+                let d = q.distance(p);
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, q));
+                }
+            });
+            if half >= reach || best.is_some_and(|(d, _)| d <= half) {
+                return best.map(|(_, q)| q);
             }
-            let f = surface.tris[t as usize];
-            let q = crate::geom::closest_point_on_triangle(p, f.map(|k| surface.pos[k as usize]));
-            let d = q.distance(p);
-            if best.is_none_or(|(b, _)| d < b) {
-                best = Some((d, q));
-            }
-        });
-        best.map(|(_, q)| q)
+            half = (half * 2.0).min(reach);
+        }
     }
 
     /// Grows Q from `target`; `None` if it cannot be a disk of live, unlocked,
