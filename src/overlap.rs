@@ -10,8 +10,8 @@
 //!
 //! 1. **Crossings.** Pairs of faces of different parts that intersect, found
 //!    through a BVH over runs of consecutive faces of one part (faces of one
-//!    tube piece are proven not to cross each other when it is built, so pairs
-//!    inside one piece are never tested).
+//!    tube piece, and of one bridge, are proven not to cross each other when
+//!    it is built, so pairs inside one part are never tested).
 //! 2. **Cuts.** Every edge that pierces a face gives one new vertex, shared by
 //!    both faces on the edge and by the pierced face; each crossing pair gives
 //!    one cut segment in both faces ([`crate::cut`]). Each cut face is
@@ -44,8 +44,8 @@ use crate::mesh::Mesh;
 /// Faces per BVH item: runs of consecutive faces of one part.
 const RUN: usize = 16;
 
-/// Owner of faces that belong to no proven part (bridges, somas, caps added
-/// late): compared with everything.
+/// Owner of faces that belong to no proven part (the somas): compared with
+/// everything, one face at a time.
 pub const NO_OWNER: u32 = u32::MAX;
 
 /// What the pass did.

@@ -93,6 +93,11 @@ pub struct Splicer<'a> {
     settled: Vec<bool>,
     /// Why attempts failed, for diagnostics.
     pub failures: std::collections::BTreeMap<&'static str, u32>,
+    /// The triangle ranges of the bridges, extensions and connectors, each
+    /// proven (or built) not to cross itself: each becomes a part of its own
+    /// for the overlap pass, which then never compares a bridge with itself.
+    units: Vec<[u32; 2]>,
+    tube_count: u32,
 }
 
 impl<'a> Splicer<'a> {
@@ -131,13 +136,23 @@ impl<'a> Splicer<'a> {
             cap_rings,
             settled,
             failures: std::collections::BTreeMap::new(),
+            units: Vec::new(),
+            tube_count: tubes.len() as u32,
         }
     }
 
-    /// The tube of every triangle of the surface ([`crate::overlap::NO_OWNER`]
-    /// for bridges and somas).
+    /// The part of every triangle of the surface, for the overlap pass: its
+    /// tube, a number after the tubes' for each bridge, extension or connector,
+    /// and [`crate::overlap::NO_OWNER`] for the somas (compared with everything).
     pub fn into_owner(self) -> Vec<u32> {
-        self.owner
+        let mut owner = self.owner;
+        for (k, &[first, end]) in self.units.iter().enumerate() {
+            let part = self.tube_count + k as u32;
+            for o in &mut owner[first as usize..end as usize] {
+                *o = part;
+            }
+        }
+        owner
     }
 
     /// Joins `tube`'s open start to the surface, trying the alternatives in
@@ -299,6 +314,9 @@ impl<'a> Splicer<'a> {
     /// Registers triangles from `first` to the end of the surface.
     fn adopt(&mut self, first: u32, owner: u32) {
         let n = self.surface.tris.len();
+        if owner == u32::MAX && first < n as u32 {
+            self.units.push([first, n as u32]);
+        }
         self.owner.resize(n, owner);
         self.reserved.resize(n, false);
         for t in first..n as u32 {
