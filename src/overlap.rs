@@ -83,35 +83,74 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
         vec![NO_OWNER; mesh.faces.len()]
     };
     let mut out = Outcome::default();
+    // After the first round, crossings can only involve a face at a vertex
+    // that round made or kept uncut, or that the nudge moved: every other face
+    // kept its f32 corners, and its crossings were all cut.
+    let mut dirty: Option<Vec<u32>> = None;
     for round in 0..ROUNDS {
-        let (once, stuck) = resolve_once(mesh, &mut owner, round == 0);
+        let t0 = std::time::Instant::now();
+        let once = resolve_once(mesh, &mut owner, round == 0, dirty.as_deref());
+        if std::env::var_os("NM_T").is_some() { eprintln!("round {round} {:.1} ms pairs {} dirty {}", t0.elapsed().as_secs_f64()*1e3, once.outcome.pairs, dirty.as_ref().map_or(0, |d| d.len())); }
         if round == 0 {
-            out.pairs = once.pairs;
+            out.pairs = once.outcome.pairs;
         }
-        out.pairs_left = once.pairs_left;
-        out.failure = once.failure;
-        if stuck.is_empty() || round + 1 == ROUNDS {
+        out.pairs_left = once.outcome.pairs_left;
+        out.failure = once.outcome.failure;
+        if once.stuck.is_empty() || round + 1 == ROUNDS {
             break;
         }
-        nudge(mesh, &stuck, round as u64);
+        nudge(mesh, &once.stuck, round as u64);
+        let mut next = once.dirty;
+        next.extend_from_slice(&once.stuck);
+        next.sort_unstable();
+        next.dedup();
+        dirty = Some(next);
     }
     out
 }
 
-/// One round: the outcome, and the vertices to nudge: of every face of the
-/// clusters left uncut (`whole`) or only of the faces at fault.
-fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>, whole: bool) -> (Outcome, Vec<u32>) {
+/// What one round did and left to the next.
+struct Round {
+    outcome: Outcome,
+    /// The vertices to nudge: of every face of the clusters left uncut
+    /// (first round) or only of the faces at fault.
+    stuck: Vec<u32>,
+    /// The vertices of faces that may still cross something: the new ones and
+    /// those of the clusters left uncut.
+    dirty: Vec<u32>,
+}
+
+/// One round; with `dirty` (vertices), only faces at one of them are looked
+/// at for crossings.
+fn resolve_once(
+    mesh: &mut Mesh,
+    owner: &mut Vec<u32>,
+    whole: bool,
+    dirty: Option<&[u32]>,
+) -> Round {
+    let t0 = std::time::Instant::now();
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
     let boxes = run_boxes(&pos, &mesh.faces, owner);
+    let t1 = t0.elapsed().as_secs_f64()*1e3;
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
-    let pairs = crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh);
+    let t2 = t0.elapsed().as_secs_f64()*1e3;
+    let pairs = match dirty {
+        None => crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh),
+        Some(d) => crossing_pairs_at(&pos, &mesh.faces, owner, &boxes, &bvh, d),
+    };
+    let t3 = t0.elapsed().as_secs_f64()*1e3;
+    if std::env::var_os("NM_T").is_some() { eprintln!("  runs {t1:.1} bvh {t2:.1} pairs {t3:.1}"); }
     let mut out = Outcome {
         pairs: pairs.len() as u32,
         pairs_left: pairs.len() as u32,
         failure: None,
     };
     if pairs.is_empty() {
-        return (out, Vec::new());
+        return Round {
+            outcome: out,
+            stuck: Vec::new(),
+            dirty: Vec::new(),
+        };
     }
     match union(mesh, owner, &pos, &pairs, &boxes, &bvh, whole) {
         Ok(built) => {
@@ -119,16 +158,21 @@ fn resolve_once(mesh: &mut Mesh, owner: &mut Vec<u32>, whole: bool) -> (Outcome,
             out.failure = built.failure;
             *mesh = built.mesh;
             *owner = built.owner;
-            (out, built.stuck)
+            Round {
+                outcome: out,
+                stuck: built.stuck,
+                dirty: built.dirty,
+            }
         }
         Err((why, culprits)) => {
             out.failure = Some(why);
-            let faces: Vec<u32> = if whole {
-                pairs.iter().flatten().copied().collect()
-            } else {
-                culprits
-            };
-            (out, vertices_of(&mesh.faces, &faces))
+            let all: Vec<u32> = pairs.iter().flatten().copied().collect();
+            let faces: Vec<u32> = if whole { all.clone() } else { culprits };
+            Round {
+                outcome: out,
+                stuck: vertices_of(&mesh.faces, &faces),
+                dirty: vertices_of(&mesh.faces, &all),
+            }
         }
     }
 }
@@ -241,6 +285,60 @@ fn crossing_pairs(
     pairs
 }
 
+/// The intersecting pairs of faces of different owners of which at least one
+/// face has a corner in `dirty` (sorted vertices), sorted: what
+/// [`crossing_pairs`] finds when every other crossing is known to be gone.
+fn crossing_pairs_at(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    owner: &[u32],
+    runs: &[(std::ops::Range<u32>, Aabb)],
+    bvh: &Bvh,
+    dirty: &[u32],
+) -> Vec<[u32; 2]> {
+    let mut at = vec![false; pos.len()];
+    for &v in dirty {
+        at[v as usize] = true;
+    }
+    let marked: Vec<bool> = faces
+        .iter()
+        .map(|f| f.iter().any(|&k| at[k as usize]))
+        .collect();
+    let queries: Vec<u32> = (0..faces.len() as u32)
+        .filter(|&f| marked[f as usize])
+        .collect();
+    let mut pairs = crate::parallel::flat_map_range(queries.len(), |k| {
+        let a = queries[k];
+        let fa = faces[a as usize];
+        let ba = face_box(pos, fa);
+        let ta = fa.map(|k| pos[k as usize]);
+        let mut out = Vec::new();
+        bvh.for_each_overlap(&ba, |i| {
+            for b in runs[i as usize].0.clone() {
+                // A pair of two marked faces is found from its first face.
+                if b == a || (marked[b as usize] && b < a) {
+                    continue;
+                }
+                let (oa, ob) = (owner[a as usize], owner[b as usize]);
+                if oa == ob && oa != NO_OWNER {
+                    continue;
+                }
+                let fb = faces[b as usize];
+                if !ba.overlaps(&face_box(pos, fb)) {
+                    continue;
+                }
+                if crate::check::pair_intersects(fa, fb, ta, fb.map(|k| pos[k as usize])) {
+                    out.push([a.min(b), a.max(b)]);
+                }
+            }
+        });
+        out
+    });
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
 /// Crossing pairs grouped into clusters: pairs joined through shared faces
 /// (an intersection curve runs through adjacent faces, so one curve is one
 /// cluster). Each cluster is cut, or left as it was, on its own.
@@ -281,6 +379,8 @@ struct Built {
     failure: Option<&'static str>,
     /// Vertices to nudge (of faces of clusters left uncut).
     stuck: Vec<u32>,
+    /// The new vertices and those of the faces of clusters left uncut.
+    dirty: Vec<u32>,
 }
 
 /// The union's boundary where it could be built.
@@ -308,22 +408,35 @@ fn union(
         .filter_map(|b| b.as_ref().err())
         .flat_map(|r| r.faces.iter().copied())
         .collect();
-    let mut face_cluster: FastMap<u32, u32> = FastMap::default();
+    // Cluster of each old face (u32::MAX: in none), and the faces in one.
+    let mut face_cluster: Vec<u32> = vec![u32::MAX; mesh.faces.len()];
     for (c, pairs) in clusters.iter().enumerate() {
         for p in pairs {
-            face_cluster.insert(p[0], c as u32);
-            face_cluster.insert(p[1], c as u32);
+            face_cluster[p[0] as usize] = c as u32;
+            face_cluster[p[1] as usize] = c as u32;
         }
     }
+    let mut in_clusters: Vec<u32> = pairs.iter().flatten().copied().collect();
+    in_clusters.sort_unstable();
+    in_clusters.dedup();
     let n_old = pos.len() as u32;
     // Every cut cluster's new vertices and pieces, numbered once: old
     // vertices, then each cluster's new ones; old faces, then the pieces.
     // Each round only changes which of them are alive.
     let mut offset = vec![0u32; clusters.len()];
-    let mut all_pos: Vec<P3> = pos.to_vec();
+    // Sized once: growing these copies of the whole mesh copied them again.
+    let (new_points, new_faces) = built
+        .iter()
+        .filter_map(|b| b.as_ref().ok())
+        .fold((0, 0), |(p, f), (cuts, pieces)| {
+            (p + cuts.points.len(), f + pieces.faces.len())
+        });
+    let mut all_pos: Vec<P3> = Vec::with_capacity(pos.len() + new_points);
+    all_pos.extend_from_slice(pos);
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
-    let mut faces: Vec<[u32; 3]> = mesh.faces.clone();
+    let mut faces: Vec<[u32; 3]> = Vec::with_capacity(mesh.faces.len() + new_faces);
+    faces.extend_from_slice(&mesh.faces);
     let mut origin: Vec<u32> = Vec::new();
     let mut piece_cluster: Vec<u32> = Vec::new();
     let first_piece = faces.len();
@@ -357,9 +470,7 @@ fn union(
         }
         for (f, a) in alive.iter_mut().enumerate() {
             *a = if f < first_piece {
-                !face_cluster
-                    .get(&(f as u32))
-                    .is_some_and(|&c| ok[c as usize])
+                !(face_cluster[f] != u32::MAX && ok[face_cluster[f] as usize])
             } else {
                 ok[piece_cluster[f - first_piece] as usize]
             };
@@ -370,7 +481,7 @@ fn union(
         // cut next to it that this leaves inconsistent).
         let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
         let mut uncertain = vec![false; n_patches];
-        for f in face_cluster.keys() {
+        for f in &in_clusters {
             if alive[*f as usize] {
                 uncertain[patch[*f as usize] as usize] = true;
             }
@@ -429,18 +540,30 @@ fn union(
                     .filter(|&k| k != u32::MAX)
                     .collect();
                 stuck.sort_unstable();
+                let uncut: Vec<u32> = (0..clusters.len())
+                    .filter(|&c| !ok[c])
+                    .flat_map(|c| clusters[c].iter().flatten().copied())
+                    .collect();
+                let mut dirty: Vec<u32> = vertices_of(&mesh.faces, &uncut)
+                    .into_iter()
+                    .chain(n_old..all_pos.len() as u32)
+                    .map(|k| remap[k as usize])
+                    .filter(|&k| k != u32::MAX)
+                    .collect();
+                dirty.sort_unstable();
                 return Ok(Built {
                     mesh: out,
                     owner: out_owner,
                     pairs_left: left as u32,
                     failure,
                     stuck,
+                    dirty,
                 });
             }
             Err((why, at_fault)) => {
                 failure.get_or_insert(why);
                 for &f in &at_fault {
-                    ok[face_cluster[&f] as usize] = false;
+                    ok[face_cluster[f as usize] as usize] = false;
                 }
                 culprits.extend(at_fault);
             }
@@ -549,12 +672,17 @@ fn patches(
             }
         }
     }
-    let mut number: FastMap<u32, u32> = FastMap::default();
+    // Patches numbered in order of their first face.
+    let mut number = vec![u32::MAX; faces.len()];
+    let mut next = 0;
     (0..faces.len() as u32)
         .map(|f| {
-            let r = uf.find(f);
-            let next = number.len() as u32;
-            *number.entry(r).or_insert(next)
+            let slot = &mut number[uf.find(f) as usize];
+            if *slot == u32::MAX {
+                *slot = next;
+                next += 1;
+            }
+            *slot
         })
         .collect()
 }
