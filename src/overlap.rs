@@ -88,9 +88,7 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
     // kept its f32 corners, and its crossings were all cut.
     let mut dirty: Option<Vec<u32>> = None;
     for round in 0..ROUNDS {
-        let t0 = std::time::Instant::now();
         let once = resolve_once(mesh, &mut owner, round == 0, dirty.as_deref());
-        if std::env::var_os("NM_T").is_some() { eprintln!("round {round} {:.1} ms pairs {} dirty {}", t0.elapsed().as_secs_f64()*1e3, once.outcome.pairs, dirty.as_ref().map_or(0, |d| d.len())); }
         if round == 0 {
             out.pairs = once.outcome.pairs;
         }
@@ -128,18 +126,13 @@ fn resolve_once(
     whole: bool,
     dirty: Option<&[u32]>,
 ) -> Round {
-    let t0 = std::time::Instant::now();
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
     let boxes = run_boxes(&pos, &mesh.faces, owner);
-    let t1 = t0.elapsed().as_secs_f64()*1e3;
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
-    let t2 = t0.elapsed().as_secs_f64()*1e3;
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh),
         Some(d) => crossing_pairs_at(&pos, &mesh.faces, owner, &boxes, &bvh, d),
     };
-    let t3 = t0.elapsed().as_secs_f64()*1e3;
-    if std::env::var_os("NM_T").is_some() { eprintln!("  runs {t1:.1} bvh {t2:.1} pairs {t3:.1}"); }
     let mut out = Outcome {
         pairs: pairs.len() as u32,
         pairs_left: pairs.len() as u32,
