@@ -18,7 +18,10 @@ fn main() {
     files.sort();
     // NEUROMESH_RESOLUTION overrides the resolution (to weigh speed against accuracy).
     let mut params = neuromesh::Params::default();
-    if let Some(r) = std::env::var("NEUROMESH_RESOLUTION").ok().and_then(|v| v.parse().ok()) {
+    if let Some(r) = std::env::var("NEUROMESH_RESOLUTION")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
         params = params.with_resolution(r);
     }
     println!(

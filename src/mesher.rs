@@ -221,7 +221,13 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     // bridges add a few per cent to the rings' vertices.
     let ring_vertices: usize = jobs
         .iter()
-        .map(|&id| tracks[id as usize].counts.iter().map(|&m| m as usize).sum::<usize>())
+        .map(|&id| {
+            tracks[id as usize]
+                .counts
+                .iter()
+                .map(|&m| m as usize)
+                .sum::<usize>()
+        })
         .sum();
     let mut surface = Surface::with_capacity(ring_vertices + ring_vertices / 8 + 1024);
     let mut tubes: Vec<Tube> = Vec::new();

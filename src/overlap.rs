@@ -919,6 +919,32 @@ mod tests {
     }
 
     #[test]
+    fn the_search_at_marked_vertices_finds_the_pairs_at_them() {
+        let (m, owner) = two_cubes([0.3, 0.4, 0.45]);
+        let pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
+        let runs = run_boxes(&pos, &m.faces, &owner);
+        let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+        let all = crossing_pairs(&pos, &m.faces, &owner, &runs, &bvh);
+        assert!(!all.is_empty());
+        let every: Vec<u32> = (0..pos.len() as u32).collect();
+        assert_eq!(
+            crossing_pairs_at(&pos, &m.faces, &owner, &runs, &bvh, &every),
+            all
+        );
+        // Only the corner of the second cube inside the first: its faces' pairs.
+        let corner = 8;
+        let some = crossing_pairs_at(&pos, &m.faces, &owner, &runs, &bvh, &[corner]);
+        let at = |f: u32| m.faces[f as usize].contains(&corner);
+        let want: Vec<[u32; 2]> = all
+            .iter()
+            .copied()
+            .filter(|p| at(p[0]) || at(p[1]))
+            .collect();
+        assert!(!want.is_empty());
+        assert_eq!(some, want);
+    }
+
+    #[test]
     fn coplanar_faces_are_nudged_apart_and_joined() {
         // Four faces of each cube lie in the planes of the other's: no
         // crossing is in general position until the nudge.
