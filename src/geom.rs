@@ -34,6 +34,41 @@ pub fn orient3d(a: P3, b: P3, c: P3, d: P3) -> f64 {
     dot(cross(sub(b, a), sub(c, a)), sub(d, a))
 }
 
+/// Whether all of `points` lie strictly on one side of the plane of `t`,
+/// decided in plain floating point only where that is certain: false when
+/// some point is too close to the plane for the rounding error, or the points
+/// are on both sides. A filter in front of the exact predicates: most pairs of
+/// triangles a mesh compares are plainly apart, and this settles them with one
+/// cross product and a few dot products instead of six adaptive determinants.
+#[inline]
+pub fn certainly_one_side(t: [P3; 3], points: &[P3]) -> bool {
+    let (u, v) = (sub(t[1], t[0]), sub(t[2], t[0]));
+    let n = cross(u, v);
+    let size = |w: P3| w[0].abs().max(w[1].abs()).max(w[2].abs());
+    // The rounding error of n·w is below 7ε times the determinant's permanent
+    // (Shewchuk's orient3d bound), itself below 6·|u|·|v|·|w| in max norms;
+    // 1e-12 is about a hundred times that.
+    let scale = 1e-12 * size(u) * size(v);
+    let mut side = 0i8;
+    for &p in points {
+        let w = sub(p, t[0]);
+        let d = dot(n, w);
+        let margin = scale * size(w);
+        let s = if d > margin {
+            1
+        } else if d < -margin {
+            -1
+        } else {
+            return false;
+        };
+        if side != 0 && s != side {
+            return false;
+        }
+        side = s;
+    }
+    side != 0
+}
+
 /// The exact sign of [`orient3d`].
 #[inline]
 pub fn orient3d_sign(a: P3, b: P3, c: P3, d: P3) -> i8 {
@@ -140,6 +175,9 @@ fn coplanar_segment_triangle(s: P3, e: P3, t: [P3; 3]) -> bool {
 
 /// Whether two closed triangles with no shared vertex intersect.
 pub fn triangles_intersect(a: [P3; 3], b: [P3; 3]) -> bool {
+    if certainly_one_side(a, &b) || certainly_one_side(b, &a) {
+        return false;
+    }
     let db: [i8; 3] = std::array::from_fn(|i| orient3d_sign(a[0], a[1], a[2], b[i]));
     if (db[0] > 0 && db[1] > 0 && db[2] > 0) || (db[0] < 0 && db[1] < 0 && db[2] < 0) {
         return false;
@@ -163,6 +201,9 @@ fn strictly_in_wedge(v: [f64; 2], a1: [f64; 2], a2: [f64; 2], p: [f64; 2]) -> bo
 /// Whether two triangles that share exactly the vertex `a[0] == b[0]` overlap
 /// anywhere else.
 pub fn triangles_intersect_sharing_vertex(a: [P3; 3], b: [P3; 3]) -> bool {
+    if certainly_one_side(a, &[b[1], b[2]]) {
+        return false;
+    }
     let d1 = orient3d_sign(a[0], a[1], a[2], b[1]);
     let d2 = orient3d_sign(a[0], a[1], a[2], b[2]);
     // All of b but the shared vertex strictly on one side of a's plane: they
