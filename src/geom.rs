@@ -352,6 +352,44 @@ mod tests {
     const T: [P3; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
     #[test]
+    fn the_filter_only_answers_what_the_exact_signs_say() {
+        // Points on, near and off the planes of random thin and fat triangles.
+        let mut h = 7u64;
+        let mut unit = || {
+            h = crate::hash::mix64(h);
+            (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut decided = 0;
+        for k in 0..20_000 {
+            let scale = [1e-3, 1.0, 1e4][k % 3];
+            let t: [P3; 3] = std::array::from_fn(|_| std::array::from_fn(|_| scale * unit()));
+            let p: [P3; 3] = std::array::from_fn(|i| {
+                // Every fourth point in the plane (up to rounding).
+                let (a, b) = (unit().abs(), unit().abs());
+                if (k + i) % 4 == 0 {
+                    std::array::from_fn(|c| {
+                        t[0][c] + a * (t[1][c] - t[0][c]) + b * (t[2][c] - t[0][c])
+                    })
+                } else {
+                    std::array::from_fn(|c| scale * unit())
+                }
+            });
+            let exact: Vec<i8> = p
+                .iter()
+                .map(|&q| orient3d_sign(t[0], t[1], t[2], q))
+                .collect();
+            if certainly_one_side(t, &p) {
+                decided += 1;
+                assert!(
+                    exact[0] != 0 && exact.iter().all(|&s| s == exact[0]),
+                    "{t:?} {p:?}"
+                );
+            }
+        }
+        assert!(decided > 1000, "{decided}");
+    }
+
+    #[test]
     fn crossing_and_separate_triangles() {
         let piercing = [[0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.3, 0.5, 0.5]];
         assert!(triangles_intersect(T, piercing));
