@@ -371,7 +371,7 @@ mod tests {
                         t[0][c] + a * (t[1][c] - t[0][c]) + b * (t[2][c] - t[0][c])
                     })
                 } else {
-                    std::array::from_fn(|c| scale * unit())
+                    std::array::from_fn(|_| scale * unit())
                 }
             });
             let exact: Vec<i8> = p
