@@ -145,7 +145,7 @@ fn resolve_once(
             dirty: Vec::new(),
         };
     }
-    match union(mesh, owner, &pos, &pairs, &boxes, &bvh, whole) {
+    match union(mesh, owner, pos, &pairs, &boxes, &bvh, whole) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
@@ -377,10 +377,14 @@ struct Built {
 }
 
 /// The union's boundary where it could be built.
+///
+/// Works in `mesh`'s face list and `pos` (the old faces and vertices stay
+/// first, the pieces and new vertices go after them) rather than in copies;
+/// on failure `mesh` is left as it was.
 fn union(
-    mesh: &Mesh,
+    mesh: &mut Mesh,
     owner: &[u32],
-    pos: &[P3],
+    pos: Vec<P3>,
     pairs: &[[u32; 2]],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
@@ -389,8 +393,8 @@ fn union(
     let clusters = clusters_of(pairs);
     let built: Vec<Result<(Cuts, cut::Pieces), cut::Refusal>> =
         crate::parallel::map(&clusters, |c| {
-            let mut cuts = Cuts::find(pos, &mesh.faces, c)?;
-            let pieces = cut::retriangulate(pos, &mesh.faces, &mut cuts)?;
+            let mut cuts = Cuts::find(&pos, &mesh.faces, c)?;
+            let pieces = cut::retriangulate(&pos, &mesh.faces, &mut cuts)?;
             Ok((cuts, pieces))
         });
     let mut ok: Vec<bool> = built.iter().map(Result::is_ok).collect();
@@ -417,19 +421,18 @@ fn union(
     // vertices, then each cluster's new ones; old faces, then the pieces.
     // Each round only changes which of them are alive.
     let mut offset = vec![0u32; clusters.len()];
-    // Sized once: growing these copies of the whole mesh copied them again.
     let (new_points, new_faces) = built
         .iter()
         .filter_map(|b| b.as_ref().ok())
         .fold((0, 0), |(p, f), (cuts, pieces)| {
             (p + cuts.points.len(), f + pieces.faces.len())
         });
-    let mut all_pos: Vec<P3> = Vec::with_capacity(pos.len() + new_points);
-    all_pos.extend_from_slice(pos);
+    let mut all_pos: Vec<P3> = pos;
+    all_pos.reserve(new_points);
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
-    let mut faces: Vec<[u32; 3]> = Vec::with_capacity(mesh.faces.len() + new_faces);
-    faces.extend_from_slice(&mesh.faces);
+    let mut faces: Vec<[u32; 3]> = std::mem::take(&mut mesh.faces);
+    faces.reserve(new_faces);
     let mut origin: Vec<u32> = Vec::new();
     let mut piece_cluster: Vec<u32> = Vec::new();
     let first_piece = faces.len();
@@ -459,6 +462,8 @@ fn union(
     let mut alive = vec![true; faces.len()];
     loop {
         if !ok.contains(&true) {
+            faces.truncate(first_piece);
+            mesh.faces = faces;
             return Err((failure.unwrap_or("no crossing could be cut"), culprits));
         }
         for (f, a) in alive.iter_mut().enumerate() {
@@ -468,7 +473,7 @@ fn union(
                 ok[piece_cluster[f - first_piece] as usize]
             };
         }
-        let patch = patches(&faces, &alive, pos.len(), &cut_edges);
+        let patch = patches(&faces, &alive, n_old as usize, &cut_edges);
         // A patch holding faces of a cluster left uncut may lie partly inside
         // and partly outside: it is always kept (the proof then finds any
         // cut next to it that this leaves inconsistent).
@@ -485,8 +490,8 @@ fn union(
             &all_pos,
             &patch,
             &origin_of,
-            &mesh.faces,
-            pos,
+            &faces[..first_piece],
+            &all_pos[..n_old as usize],
             runs,
             bvh,
         );
@@ -527,7 +532,7 @@ fn union(
                         .flat_map(|c| clusters[c].iter().flatten().copied())
                         .collect();
                 }
-                let mut stuck: Vec<u32> = vertices_of(&mesh.faces, &culprits)
+                let mut stuck: Vec<u32> = vertices_of(&faces[..first_piece], &culprits)
                     .into_iter()
                     .map(|k| remap[k as usize])
                     .filter(|&k| k != u32::MAX)
@@ -537,7 +542,7 @@ fn union(
                     .filter(|&c| !ok[c])
                     .flat_map(|c| clusters[c].iter().flatten().copied())
                     .collect();
-                let mut dirty: Vec<u32> = vertices_of(&mesh.faces, &uncut)
+                let mut dirty: Vec<u32> = vertices_of(&faces[..first_piece], &uncut)
                     .into_iter()
                     .chain(n_old..all_pos.len() as u32)
                     .map(|k| remap[k as usize])
