@@ -506,25 +506,6 @@ fn union(
                     .map(|c| clusters[c].len())
                     .sum();
                 let remap = renumbering(&faces, &kept, all_pos.len());
-                let (out, out_owner) = assemble(
-                    mesh,
-                    &faces,
-                    &kept,
-                    &all_pos,
-                    &remap,
-                    |f| owner[origin_of(f) as usize],
-                    |k| {
-                        if k < n_old {
-                            k
-                        } else {
-                            let c = cluster_of_vertex(k);
-                            let Ok((cuts, _)) = &built[c as usize] else {
-                                unreachable!("only cut clusters have new vertices")
-                            };
-                            cuts.point_label_vertex[(k - n_old - offset[c as usize]) as usize]
-                        }
-                    },
-                );
                 // Faces of uncut clusters keep their vertices, renumbered.
                 if whole {
                     culprits = (0..clusters.len())
@@ -549,6 +530,25 @@ fn union(
                     .filter(|&k| k != u32::MAX)
                     .collect();
                 dirty.sort_unstable();
+                let (out, out_owner) = assemble(
+                    mesh,
+                    faces,
+                    &kept,
+                    &all_pos,
+                    &remap,
+                    |f| owner[origin_of(f) as usize],
+                    |k| {
+                        if k < n_old {
+                            k
+                        } else {
+                            let c = cluster_of_vertex(k);
+                            let Ok((cuts, _)) = &built[c as usize] else {
+                                unreachable!("only cut clusters have new vertices")
+                            };
+                            cuts.point_label_vertex[(k - n_old - offset[c as usize]) as usize]
+                        }
+                    },
+                );
                 return Ok(Built {
                     mesh: out,
                     owner: out_owner,
@@ -587,11 +587,12 @@ fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) -> Vec<u32>
 }
 
 /// The kept faces with their used vertices renumbered by `remap` (from
-/// [`renumbering`]), and the part of each (`owner_of(f)` for face `f`);
-/// `label_from(k)` names the old vertex whose label vertex `k` takes.
+/// [`renumbering`]), compacted in place in `faces`, and the part of each
+/// (`owner_of(f)` for face `f`); `label_from(k)` names the old vertex whose
+/// label vertex `k` takes.
 fn assemble(
     mesh: &Mesh,
-    faces: &[[u32; 3]],
+    mut faces: Vec<[u32; 3]>,
     kept: &[bool],
     all_pos: &[P3],
     remap: &[u32],
@@ -612,18 +613,21 @@ fn assemble(
             vertex_sample[to as usize] = mesh.vertex_sample[label_from(k as u32) as usize];
         }
     }
-    let mut out_faces = Vec::with_capacity(faces.len());
+    // Kept faces move down (never up), so the list compacts in place.
     let mut out_owner = Vec::with_capacity(faces.len());
-    for (f, face) in faces.iter().enumerate() {
+    let mut w = 0;
+    for f in 0..faces.len() {
         if kept[f] {
-            out_faces.push(face.map(|k| remap[k as usize]));
+            faces[w] = faces[f].map(|k| remap[k as usize]);
             out_owner.push(owner_of(f));
+            w += 1;
         }
     }
+    faces.truncate(w);
     (
         Mesh {
             vertices,
-            faces: out_faces,
+            faces,
             vertex_sample,
             stats: mesh.stats.clone(),
         },
