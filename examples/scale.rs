@@ -30,7 +30,12 @@ fn main() {
     .expect("pool")
     .expect("mesh");
     let secs = start.elapsed().as_secs_f64();
-    let _ = std::fs::remove_file(&path);
+    // NEUROMESH_KEEP_SWC=1 keeps the tree's file (to profile it by stage).
+    if std::env::var_os("NEUROMESH_KEEP_SWC").is_none() {
+        let _ = std::fs::remove_file(&path);
+    } else {
+        eprintln!("kept {}", path.display());
+    }
     println!(
         "{n} samples: {} triangles, {:.2} s, {:.2} M triangles/s, peak memory {:.0} MB (before meshing {:.0} MB)",
         mesh.faces.len(),

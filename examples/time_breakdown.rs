@@ -1,4 +1,4 @@
-//! Time per pipeline stage on the given SWC files, best of 5 (developer tool;
+//! Time per pipeline stage on the given SWC files, best of 5 or $REPS (developer tool;
 //! run with RAYON_NUM_THREADS=1 for one core).
 use std::time::Instant;
 
@@ -7,7 +7,11 @@ fn main() {
     for path in std::env::args().skip(1) {
         let mut best = [f64::INFINITY; 6];
         let mut tris = 0;
-        for _ in 0..5 {
+        let reps: usize = std::env::var("REPS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(5);
+        for _ in 0..reps {
             let mut t = Instant::now();
             let mut lap = |k: usize, best: &mut [f64; 6]| {
                 best[k] = best[k].min(t.elapsed().as_secs_f64() * 1e3);
