@@ -5,7 +5,8 @@
 //! identification and Catmull-Rom tracks with their contour sizes), `tubes`
 //! (the whole tube stage: resampling, adaptive contours, contour connection,
 //! caps), `soma` (sphere point sets and their constrained Delaunay
-//! triangulations), `splice` (every junction), `write_obj` / `write_ply` (into
+//! triangulations), `splice` (every junction), `overlaps` (the union where
+//! parts of the spliced mesh cross), `write_obj` / `write_ply` (into
 //! memory), and `end_to_end` (file on disk to mesh in memory). Throughput is in
 //! SWC samples per second for `parse`, `resample` and `tubes`, and in output
 //! triangles per second for the others.
@@ -123,6 +124,30 @@ fn stages(c: &mut Criterion) {
                 |mut s| {
                     mesher::splice_all(&mut s, &params);
                     s
+                },
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("overlaps");
+    g.sample_size(10).measurement_time(Duration::from_secs(8));
+    for (name, m, mesh) in &files {
+        let mut stage = mesher::build_tubes(m, &params).expect("tubes");
+        mesher::build_somas(&mut stage);
+        mesher::splice_all(&mut stage, &params);
+        let (spliced, owner) = stage
+            .surface
+            .clone()
+            .into_mesh_with(stage.stats.clone(), stage.owner.clone());
+        g.throughput(Throughput::Elements(mesh.faces.len() as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(name), &spliced, |b, spliced| {
+            b.iter_batched(
+                || spliced.clone(),
+                |mut out| {
+                    mesher::resolve_overlaps(&mut out, &owner);
+                    out
                 },
                 BatchSize::LargeInput,
             )
