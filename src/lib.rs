@@ -38,6 +38,7 @@ pub mod parallel;
 pub mod params;
 pub mod piece;
 pub mod planar;
+pub mod plausibility;
 pub mod soma;
 pub mod splice;
 pub mod spline;

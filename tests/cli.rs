@@ -38,6 +38,23 @@ fn info_succeeds_on_every_real_file() {
 }
 
 #[test]
+fn radii_in_another_unit_are_warned_about_and_still_succeed() {
+    // The CAR platform's radius column holds codes (40 to 6,910) on a cell
+    // about 200 units across; a Purkinje cell's radii are fine.
+    let car = "tests/data/real/human_cortex_CAR_00148_P003_IPL.swc";
+    let out = neuromesh(&["info", car]);
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.starts_with(&format!("warning: {car}: radii look implausible")),
+        "{err}"
+    );
+    let out = neuromesh(&["info", "tests/data/real/purkinje_martone_alxP.CNG.swc"]);
+    assert!(out.status.success());
+    assert_eq!(text(&out.stderr), "");
+}
+
+#[test]
 fn info_json_is_machine_readable() {
     let out = neuromesh(&["info", "tests/data/y_bifurcation.swc", "--json"]);
     assert!(out.status.success());

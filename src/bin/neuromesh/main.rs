@@ -108,6 +108,14 @@ fn main() -> ExitCode {
     }
 }
 
+/// Says on stderr when the radii cannot be in the coordinates' units (the
+/// output is made all the same).
+fn warn_radii(input: &std::path::Path, m: &Morphology) {
+    if let Some(why) = neuromesh::plausibility::radius_warning(m) {
+        eprintln!("warning: {}: {why}", input.display());
+    }
+}
+
 fn run(cmd: Cmd) -> Result<ExitCode, Error> {
     match cmd {
         Cmd::Mesh {
@@ -121,6 +129,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             io::Format::from_path(&output)?;
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
+            warn_radii(&input, &morphology);
             let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
             let meshed = start.elapsed();
             io::write(&output, &mesh)?;
@@ -150,6 +159,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
         } => batch::run(&inputs, &output, &format, jobs, quiet, &params),
         Cmd::Info { input, json, union } => {
             let m = Morphology::from_swc(&input)?;
+            warn_radii(&input, &m);
             let s = if union {
                 Summary::with_union(&m)
             } else {
