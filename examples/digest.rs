@@ -8,12 +8,8 @@ fn main() {
     let dir = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "tests/data/real".to_owned());
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("folder")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "swc"))
-        .collect();
-    files.sort();
+    // The folder's *.swc files, sorted, as `neuromesh batch` takes them.
+    let files = neuromesh::batch::expand_inputs(&[dir.into()]).expect("SWC files");
     for f in files {
         let name = f.file_name().unwrap().to_string_lossy().into_owned();
         let m = match neuromesh::Morphology::from_swc(&f) {

@@ -10,12 +10,8 @@ fn main() {
     let dir = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "tests/data/real".to_owned());
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("folder")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "swc"))
-        .collect();
-    files.sort();
+    // The folder's *.swc files, sorted, as `neuromesh batch` takes them.
+    let files = neuromesh::batch::expand_inputs(&[dir.into()]).expect("SWC files");
     // NEUROMESH_RESOLUTION overrides the resolution (to weigh speed against accuracy).
     let mut params = neuromesh::Params::default();
     if let Some(r) = std::env::var("NEUROMESH_RESOLUTION")

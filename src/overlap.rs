@@ -160,11 +160,16 @@ fn resolve_once(
         Err((why, culprits)) => {
             out.failure = Some(why);
             let all: Vec<u32> = pairs.iter().flatten().copied().collect();
-            let faces: Vec<u32> = if whole { all.clone() } else { culprits };
+            let dirty = vertices_of(&mesh.faces, &all);
+            let stuck = if whole {
+                dirty.clone()
+            } else {
+                vertices_of(&mesh.faces, &culprits)
+            };
             Round {
                 outcome: out,
-                stuck: vertices_of(&mesh.faces, &faces),
-                dirty: vertices_of(&mesh.faces, &all),
+                stuck,
+                dirty,
             }
         }
     }
@@ -236,6 +241,19 @@ fn face_box(pos: &[P3], f: [u32; 3]) -> Aabb {
     Aabb::of(&f.map(|k| pos[k as usize]))
 }
 
+/// Whether faces of these owners are compared: different parts, or faces
+/// of no proven part.
+fn compared(a: u32, b: u32) -> bool {
+    a != b || a == NO_OWNER
+}
+
+/// Whether face `fa` (corners `ta`, box `ba`) crosses face `b`.
+fn crosses(pos: &[P3], faces: &[[u32; 3]], fa: [u32; 3], ta: [P3; 3], ba: &Aabb, b: u32) -> bool {
+    let fb = faces[b as usize];
+    ba.overlaps(&face_box(pos, fb))
+        && crate::check::pair_intersects(fa, fb, ta, fb.map(|k| pos[k as usize]))
+}
+
 /// All intersecting pairs of faces of different owners, sorted.
 fn crossing_pairs(
     pos: &[P3],
@@ -245,10 +263,7 @@ fn crossing_pairs(
     bvh: &Bvh,
 ) -> Vec<[u32; 2]> {
     let run_owner = |i: u32| owner[runs[i as usize].0.start as usize];
-    let item_pairs = bvh.overlapping_pairs(|i, j| {
-        let (a, b) = (run_owner(i), run_owner(j));
-        a != b || a == NO_OWNER
-    });
+    let item_pairs = bvh.overlapping_pairs(|i, j| compared(run_owner(i), run_owner(j)));
     let mut pairs = crate::parallel::flat_map_range(item_pairs.len(), |k| {
         let [i, j] = item_pairs[k];
         let (ri, rj) = (&runs[i as usize], &runs[j as usize]);
@@ -261,12 +276,7 @@ fn crossing_pairs(
             }
             let ta = fa.map(|k| pos[k as usize]);
             for b in rj.0.clone() {
-                let fb = faces[b as usize];
-                if !ba.overlaps(&face_box(pos, fb)) {
-                    continue;
-                }
-                let tb = fb.map(|k| pos[k as usize]);
-                if crate::check::pair_intersects(fa, fb, ta, tb) {
+                if crosses(pos, faces, fa, ta, &ba, b) {
                     out.push([a.min(b), a.max(b)]);
                 }
             }
@@ -312,15 +322,9 @@ fn crossing_pairs_at(
                 if b == a || (marked[b as usize] && b < a) {
                     continue;
                 }
-                let (oa, ob) = (owner[a as usize], owner[b as usize]);
-                if oa == ob && oa != NO_OWNER {
-                    continue;
-                }
-                let fb = faces[b as usize];
-                if !ba.overlaps(&face_box(pos, fb)) {
-                    continue;
-                }
-                if crate::check::pair_intersects(fa, fb, ta, fb.map(|k| pos[k as usize])) {
+                if compared(owner[a as usize], owner[b as usize])
+                    && crosses(pos, faces, fa, ta, &ba, b)
+                {
                     out.push([a.min(b), a.max(b)]);
                 }
             }
@@ -507,22 +511,17 @@ fn union(
                     .sum();
                 let remap = renumbering(&faces, &kept, all_pos.len());
                 // Faces of uncut clusters keep their vertices, renumbered.
-                if whole {
-                    culprits = (0..clusters.len())
-                        .filter(|&c| !ok[c])
-                        .flat_map(|c| clusters[c].iter().flatten().copied())
-                        .collect();
-                }
-                let mut stuck: Vec<u32> = vertices_of(&faces[..first_piece], &culprits)
+                let uncut: Vec<u32> = (0..clusters.len())
+                    .filter(|&c| !ok[c])
+                    .flat_map(|c| clusters[c].iter().flatten().copied())
+                    .collect();
+                let to_nudge = if whole { &uncut } else { &culprits };
+                let mut stuck: Vec<u32> = vertices_of(&faces[..first_piece], to_nudge)
                     .into_iter()
                     .map(|k| remap[k as usize])
                     .filter(|&k| k != u32::MAX)
                     .collect();
                 stuck.sort_unstable();
-                let uncut: Vec<u32> = (0..clusters.len())
-                    .filter(|&c| !ok[c])
-                    .flat_map(|c| clusters[c].iter().flatten().copied())
-                    .collect();
                 let mut dirty: Vec<u32> = vertices_of(&faces[..first_piece], &uncut)
                     .into_iter()
                     .chain(n_old..all_pos.len() as u32)
