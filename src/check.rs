@@ -126,7 +126,7 @@ impl MeshReport {
                 "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
                 "\"junctions_detached\":{},\"soma_trunks\":{},\"overlap_pairs\":{},",
-                "\"overlap_pairs_left\":{}}}}}"
+                "\"overlap_pairs_left\":{},\"fillers\":{}}}}}"
             ),
             self.vertices,
             self.faces,
@@ -170,6 +170,7 @@ impl MeshReport {
             s.soma_trunks,
             s.overlap_pairs,
             s.overlap_pairs_left,
+            s.fillers,
         )
     }
 }
@@ -251,8 +252,8 @@ impl std::fmt::Display for MeshReport {
             )?;
             writeln!(
                 f,
-                "overlaps              {} crossing pairs of parts, {} left after the union",
-                s.overlap_pairs, s.overlap_pairs_left
+                "overlaps              {} crossing pairs of parts, {} left after the union ({} fillers)",
+                s.overlap_pairs, s.overlap_pairs_left, s.fillers
             )?;
         }
         write!(f, "valid                 {}", yes(self.is_valid()))

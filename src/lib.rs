@@ -24,6 +24,7 @@ pub mod check;
 pub mod contour;
 pub mod cut;
 pub mod error;
+pub mod filler;
 pub mod geom;
 pub mod grid;
 pub mod hash;

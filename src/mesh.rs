@@ -36,6 +36,11 @@ pub struct BuildStats {
     /// Of those, pairs still in the mesh because the union could not be built
     /// there (0 when it was).
     pub overlap_pairs_left: u32,
+    /// Branches whose stretch before their first clear contour was added as a
+    /// filler and united with the rest ([`crate::filler`]); 0 when the
+    /// overlap pass could not take the fillers and the cell was meshed
+    /// without them.
+    pub fillers: u32,
 }
 
 /// A triangle mesh. Faces wind counter-clockwise seen from outside.

@@ -53,11 +53,57 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
         surface,
         stats,
         owner,
+        filler_parts,
         ..
     } = construct(morphology, params)?;
     let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
+    let has_fillers = face_owner
+        .last()
+        .is_some_and(|&o| o != crate::overlap::NO_OWNER && o >= filler_parts);
+    if !has_fillers {
+        resolve_overlaps(&mut mesh, &face_owner);
+        return Ok(mesh);
+    }
+    // The fillers add crossings; should the pass fail to cut one of them,
+    // the cell is meshed as the paper builds it, without fillers, rather
+    // than left crossing itself.
+    let before = mesh.clone();
     resolve_overlaps(&mut mesh, &face_owner);
+    if mesh.stats.overlap_pairs == 0 {
+        // Nothing crosses: every filler lies inside the rest.
+        drop_fillers(&mut mesh, &face_owner, filler_parts);
+        mesh.stats.fillers = 0;
+    } else if mesh.stats.overlap_pairs_left > 0 {
+        mesh = before;
+        drop_fillers(&mut mesh, &face_owner, filler_parts);
+        mesh.stats.fillers = 0;
+        let kept = mesh.faces.len();
+        resolve_overlaps(&mut mesh, &face_owner[..kept]);
+    }
     Ok(mesh)
+}
+
+/// Removes the fillers (faces of parts `filler_parts..`) from a mesh the
+/// overlap pass left as built: with nothing crossing, each filler lies
+/// wholly inside the rest ([`crate::filler`]). They are the last faces and
+/// their vertices the last vertices, and no other face uses those.
+fn drop_fillers(mesh: &mut Mesh, face_owner: &[u32], filler_parts: u32) {
+    let Some(first) = face_owner
+        .iter()
+        .position(|&o| o != crate::overlap::NO_OWNER && o >= filler_parts)
+    else {
+        return;
+    };
+    mesh.faces.truncate(first);
+    let used = mesh
+        .faces
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    mesh.vertices.truncate(used);
+    mesh.vertex_sample.truncate(used);
 }
 
 /// Steps 1 to 5: tubes, somas and junctions, before overlaps are resolved.
@@ -65,6 +111,7 @@ fn construct(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
     let mut stage = build_tubes(morphology, params)?;
     build_somas(&mut stage);
     splice_all(&mut stage, params);
+    build_fillers(&mut stage, params);
     Ok(stage)
 }
 
@@ -147,6 +194,52 @@ pub fn splice_all(stage: &mut TubeStage, params: &Params) {
     stage.joins.clear();
 }
 
+/// Step 5b: the fillers ([`crate::filler`]), each piece a part of its own
+/// numbered from [`TubeStage::filler_parts`].
+pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
+    let base = stage
+        .owner
+        .iter()
+        .filter(|&&o| o != crate::overlap::NO_OWNER)
+        .max()
+        .map_or(0, |&o| o + 1);
+    stage.filler_parts = base;
+    stage.stats.fillers = stage.fillers.len() as u32;
+    let TubeStage {
+        surface,
+        branches,
+        tracks,
+        fillers,
+        owner,
+        ..
+    } = stage;
+    let parts = crate::filler::build(
+        surface,
+        fillers,
+        tracks,
+        |b| sample_labels(&branches[b as usize]),
+        |b| tracks[b as usize].samples[0].pos,
+        params.cap_rings,
+    );
+    owner.resize(surface.tris.len(), crate::overlap::NO_OWNER);
+    for (k, tris) in parts.into_iter().enumerate() {
+        for o in &mut owner[tris.start as usize..tris.end as usize] {
+            *o = base + k as u32;
+        }
+    }
+}
+
+/// The sample each contour vertex of branch `b` is labelled with: a trunk's
+/// vertices carry neurite samples, never the soma's (the soma sample is only
+/// where the trunk's track begins).
+fn sample_labels(b: &Branch) -> Vec<u32> {
+    let mut labels = b.samples.clone();
+    if matches!(b.attachment, Attachment::Soma { .. }) && labels.len() > 1 {
+        labels[0] = labels[1];
+    }
+    labels
+}
+
 /// The surface before splicing: every branch's tube pieces, closed at their
 /// ends except where a join will splice them (secondary starts, later pieces)
 /// or a soma will join them (trunks).
@@ -166,6 +259,12 @@ pub struct TubeStage {
     pub stats: BuildStats,
     /// The tube piece of every triangle, once spliced (empty before).
     pub owner: Vec<u32>,
+    /// Every branch's track.
+    pub tracks: Vec<Track>,
+    /// The fillers to build: branch and end of its span ([`crate::filler`]).
+    pub fillers: Vec<(u32, usize, usize)>,
+    /// Parts numbered from this one are fillers (set when they are built).
+    pub filler_parts: u32,
 }
 
 /// Steps 1 to 3 of the pipeline: branches, tracks, first contours and tubes.
@@ -188,6 +287,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         start: starts,
         spliced_trunk,
         somas,
+        filler,
     } = crate::starts::plan(&m, &branches, &tracks);
     // 3. Tubes, in parallel, appended in branch order.
     let jobs: Vec<u32> = (0..branches.len() as u32)
@@ -206,12 +306,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
         let anchor = geometry.pos[b.samples[0] as usize];
         let start = starts[id as usize].unwrap_or(0);
-        // A trunk's vertices carry neurite samples, never the soma's: the soma
-        // sample is only where the trunk's track begins.
-        let mut labels = b.samples.clone();
-        if matches!(b.attachment, Attachment::Soma { .. }) && labels.len() > 1 {
-            labels[0] = labels[1];
-        }
+        let labels = sample_labels(b);
         let (tubes, skipped) =
             piece::build_pieces(&mut surface, track, &labels, id, start, anchor, caps);
         (surface, tubes, skipped)
@@ -285,6 +380,24 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             (plan, trunks)
         })
         .collect();
+    // Only the fillers that add a measurable share of the cell's volume, and
+    // none where the radii cannot be in the coordinates' units: every
+    // branch then sits inside a ball far wider than the cell, and its
+    // fillers would cross each other millions of times (a whole-brain
+    // axon whose radius column holds codes: 9.6 million pairs, 82 s).
+    let plausible = crate::plausibility::radius_warning(&m).is_none();
+    let cell: f64 = tracks
+        .iter()
+        .map(|t| crate::volume::slices(t, 0, t.samples.len(), |_| 1.0))
+        .sum();
+    let fillers = filler
+        .iter()
+        .enumerate()
+        .filter_map(|(b, f)| {
+            f.filter(|f| plausible && f.2 >= crate::filler::MIN_GAIN * cell)
+                .map(|(from, to, _)| (b as u32, from, to))
+        })
+        .collect();
     Ok(TubeStage {
         surface,
         branches,
@@ -293,6 +406,9 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         somas,
         stats,
         owner: Vec::new(),
+        tracks,
+        fillers,
+        filler_parts: u32::MAX,
     })
 }
 

@@ -95,6 +95,17 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
         out.pairs_left = once.outcome.pairs_left;
         out.failure = once.outcome.failure;
         if once.stuck.is_empty() || round + 1 == ROUNDS {
+            // The proof compares the pieces of different parts; pieces of
+            // one part re-triangulated next to each other are checked here,
+            // whatever their parts, at the vertices the last round made.
+            if !once.dirty.is_empty() {
+                let left = crossings_at_any(mesh, &once.dirty);
+                if left > 0 {
+                    out.pairs_left += left;
+                    out.failure
+                        .get_or_insert("pieces of one part cross after the cut");
+                }
+            }
             break;
         }
         nudge(mesh, &once.stuck, round as u64);
@@ -334,6 +345,16 @@ fn crossing_pairs_at(
     pairs.sort_unstable();
     pairs.dedup();
     pairs
+}
+
+/// The crossing pairs of faces at one of `dirty`'s vertices with any other
+/// face, of whatever part.
+fn crossings_at_any(mesh: &Mesh, dirty: &[u32]) -> u32 {
+    let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
+    let one = vec![NO_OWNER; mesh.faces.len()];
+    let runs = run_boxes(&pos, &mesh.faces, &one);
+    let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+    crossing_pairs_at(&pos, &mesh.faces, &one, &runs, &bvh, dirty).len() as u32
 }
 
 /// Crossing pairs grouped into clusters: pairs joined through shared faces

@@ -370,6 +370,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDic
     d.set_item("soma_trunks", s.soma_trunks)?;
     d.set_item("overlap_pairs", s.overlap_pairs)?;
     d.set_item("overlap_pairs_left", s.overlap_pairs_left)?;
+    d.set_item("fillers", s.fillers)?;
     Ok(d)
 }
 

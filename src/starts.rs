@@ -42,6 +42,10 @@ pub struct Starts {
     pub spliced_trunk: Vec<Option<DVec3>>,
     /// One plan per tree with a soma.
     pub somas: Vec<SomaPlan>,
+    /// Per branch, the track points `from..to` of its filler, if it gets one
+    /// ([`crate::filler`]).
+    /// With the volume it would add, estimated.
+    pub filler: Vec<Option<(usize, usize, f64)>>,
 }
 
 /// A trunk must leave the sphere at least this steeply (cosine between its
@@ -56,7 +60,9 @@ pub fn plan(m: &Morphology, branches: &[Branch], tracks: &[Track]) -> Starts {
         start: vec![Some(0); branches.len()],
         spliced_trunk: vec![None; branches.len()],
         somas: Vec::new(),
+        filler: vec![None; branches.len()],
     };
+    let soma = m.soma_mask();
     for (ti, tree) in m.trees().iter().enumerate() {
         if let Some(s) = &tree.soma {
             plan_soma(&mut out, ti as u32, s, branches, tracks, &index);
@@ -76,6 +82,13 @@ pub fn plan(m: &Morphology, branches: &[Branch], tracks: &[Track]) -> Starts {
             (other as usize) < i && start[other as usize].is_some()
         });
         out.start[i] = crate::volume::first_outside(t, &cones);
+        if !soma[b.samples[0] as usize] {
+            // The branch point's own sphere is part of the cell's volume too.
+            let mut around = cones;
+            let p = tp.samples[tp.originals[at as usize]].pos;
+            around.push((p, p, rp, rp));
+            out.filler[i] = crate::filler::span(t, out.start[i], &around);
+        }
     }
     out
 }

@@ -90,6 +90,20 @@ impl Track {
         }
     }
 
+    /// The track cut to its first `end` points (at least one).
+    pub fn prefix(&self, end: usize) -> Track {
+        let end = end.clamp(1, self.samples.len());
+        Track {
+            samples: self.samples[..end].to_vec(),
+            frames: self.frames[..end].to_vec(),
+            counts: self.counts[..end].to_vec(),
+            radii: self.radii[..end].to_vec(),
+            edge: self.edge,
+            arc: self.arc[..end].to_vec(),
+            originals: self.originals.iter().map(|&k| k.min(end - 1)).collect(),
+        }
+    }
+
     /// The disc of point `i`.
     pub fn disc(&self, i: usize) -> DiscFrame {
         DiscFrame {

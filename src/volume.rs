@@ -57,6 +57,39 @@ pub fn first_outside_from(
     })
 }
 
+/// The fraction of the vertices of the contour of track point `i` that lie
+/// outside every one of `cones` (with their linear radius).
+pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone]) -> f64 {
+    let s = &track.samples[i];
+    let r = track.radii[i];
+    let u = track.frames[i];
+    let v = s.tangent.cross(u);
+    let m = track.counts[i];
+    let outside = (0..m)
+        .filter(|&j| {
+            let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
+            let p = s.pos + r * (th.cos() * u + th.sin() * v);
+            !cones
+                .iter()
+                .any(|&(a, b, ra, rb)| inside_cone(p, a, b, ra, rb, 0.0))
+        })
+        .count();
+    outside as f64 / f64::from(m)
+}
+
+/// The volume of the disc slices of track points `from..to`: each contour's
+/// area times its share of the arc.
+pub fn slices(track: &Track, from: usize, to: usize, weight: impl Fn(usize) -> f64) -> f64 {
+    let n = track.samples.len();
+    (from..to.min(n))
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            let share = 0.5 * (track.arc[b] - track.arc[a]);
+            std::f64::consts::PI * track.radii[i] * track.radii[i] * share * weight(i)
+        })
+        .sum()
+}
+
 /// The parameter in [0, 1] of the point of segment `a`-`b` nearest to `p`.
 fn nearest_on_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;

@@ -262,3 +262,38 @@ proptest! {
         assert_joined(&m, &format!("{rows:?}"));
     }
 }
+
+/// A thick child leaving a thick, coarsely sampled parent (an electron
+/// microscopy trace): its first clear contour is far from the branch point,
+/// and the stretch before it is outside both the parent and the splice's
+/// bridge. The filler puts it back: without it the volume was 6 to 12 %
+/// below the union of round cones for these three, with it about 1 %.
+#[test]
+fn a_thick_child_on_a_coarse_thick_parent_keeps_its_volume() {
+    for (rp, rc, step, dir) in [
+        (4.0, 5.0, 8.0, [0.6, 0.8]),
+        (3.0, 5.0, 7.0, [0.3, 1.0]),
+        (4.0, 6.0, 9.0, [1.0, 1.0]),
+    ] {
+        let mut rows: Vec<(i64, [f64; 3], f64)> = (0..6)
+            .map(|k| (k - 1, [k as f64 * step, 0.0, 0.0], rp))
+            .collect();
+        let l = f64::hypot(dir[0], dir[1]);
+        let (ux, uy) = (dir[0] / l, dir[1] / l);
+        for k in 1..=5i64 {
+            let t = step * k as f64;
+            let parent = if k == 1 { 2 } else { 5 + k - 1 };
+            // Radii alternating by 30 %, as such traces have them.
+            let r = rc * if k % 2 == 1 { 1.3 } else { 1.0 };
+            rows.push((parent, [2.0 * step + ux * t, uy * t, 0.0], r));
+        }
+        let what = format!("parent {rp}, child {rc}, step {step}");
+        let m = tree(&rows);
+        let mesh = assert_spliced(&m, &what);
+        assert_eq!(mesh.stats.fillers, 1, "{what}");
+        let r = mesh.check_with(&m);
+        let union = r.skeleton.and_then(|k| k.union).expect("union").volume;
+        let dv = (r.volume - union) / union;
+        assert!(dv.abs() < 0.03, "{what}: volume {:+.2} %", 100.0 * dv);
+    }
+}
