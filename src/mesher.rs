@@ -68,7 +68,9 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
     // the cell is meshed as the paper builds it, without fillers, rather
     // than left crossing itself.
     let before = mesh.clone();
-    resolve_overlaps(&mut mesh, &face_owner);
+    let (outcome, owner_after) = crate::overlap::resolve_with_owner(&mut mesh, &face_owner);
+    mesh.stats.overlap_pairs = outcome.pairs;
+    mesh.stats.overlap_pairs_left = outcome.pairs_left;
     if mesh.stats.overlap_pairs == 0 {
         // Nothing crosses: every filler lies inside the rest.
         drop_fillers(&mut mesh, &face_owner, filler_parts);
@@ -79,8 +81,71 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
         mesh.stats.fillers = 0;
         let kept = mesh.faces.len();
         resolve_overlaps(&mut mesh, &face_owner[..kept]);
+    } else {
+        drop_shells(&mut mesh, &owner_after, filler_parts);
     }
     Ok(mesh)
+}
+
+/// Removes the shells the fillers can leave (both found by the random
+/// trees): voids enclosed by fillers and the tubes around them, inward
+/// (negative signed volume), which the union of round cones the fillers
+/// stand for does not have; and filler pieces that touch nothing else
+/// (every face of a filler part `filler_parts..`).
+fn drop_shells(mesh: &mut Mesh, owner: &[u32], filler_parts: u32) {
+    let component = crate::check::face_components(&mesh.view());
+    let count = component.iter().map(|&c| c as usize + 1).max().unwrap_or(0);
+    if count < 2 {
+        return;
+    }
+    let mut volume = vec![0.0f64; count];
+    let view = mesh.view();
+    let c = view.center();
+    for (f, &k) in component.iter().enumerate() {
+        let [a, b, d] = view.triangle(f, c);
+        volume[k as usize] += crate::mesh::dot(a, crate::mesh::cross(b, d));
+    }
+    let mut filler_only = vec![owner.len() == component.len(); count];
+    for (f, &k) in component.iter().enumerate() {
+        let o = owner.get(f).copied().unwrap_or(crate::overlap::NO_OWNER);
+        if o == crate::overlap::NO_OWNER || o < filler_parts {
+            filler_only[k as usize] = false;
+        }
+    }
+    let drop: Vec<bool> = (0..count)
+        .map(|k| volume[k] < 0.0 || filler_only[k])
+        .collect();
+    if !drop.contains(&true) || drop.iter().all(|&d| d) {
+        return;
+    }
+    let mut k = 0;
+    mesh.faces.retain(|_| {
+        k += 1;
+        !drop[component[k - 1] as usize]
+    });
+    // Renumber the vertices still used, in their order.
+    let mut remap = vec![u32::MAX; mesh.vertices.len()];
+    for f in &mesh.faces {
+        for &v in f {
+            remap[v as usize] = 0;
+        }
+    }
+    let mut next = 0u32;
+    for (v, slot) in remap.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = next;
+            mesh.vertices[next as usize] = mesh.vertices[v];
+            if let Some(&s) = mesh.vertex_sample.get(v) {
+                mesh.vertex_sample[next as usize] = s;
+            }
+            next += 1;
+        }
+    }
+    mesh.vertices.truncate(next as usize);
+    mesh.vertex_sample.truncate(next as usize);
+    for f in &mut mesh.faces {
+        *f = f.map(|v| remap[v as usize]);
+    }
 }
 
 /// Removes the fillers (faces of parts `filler_parts..`) from a mesh the

@@ -77,6 +77,11 @@ const NUDGE: f64 = 1e-3;
 /// everything). Where a crossing cannot be cut, its faces are left as they
 /// were (see the module docs).
 pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
+    resolve_with_owner(mesh, owner).0
+}
+
+/// [`resolve`], also returning the part of each face of the result.
+pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>) {
     let mut owner: Vec<u32> = if owner.len() == mesh.faces.len() {
         owner.to_vec()
     } else {
@@ -115,7 +120,7 @@ pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
         next.dedup();
         dirty = Some(next);
     }
-    out
+    (out, owner)
 }
 
 /// What one round did and left to the next.
