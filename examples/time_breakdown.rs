@@ -25,15 +25,15 @@ fn main() {
             lap(2, &mut best);
             neuromesh::mesher::splice_all(&mut stage, &p);
             lap(3, &mut best);
-            let (mut mesh, owner) = stage.surface.into_mesh_with(stage.stats, stage.owner);
+            neuromesh::mesher::build_fillers(&mut stage, &p);
             lap(4, &mut best);
-            neuromesh::mesher::resolve_overlaps(&mut mesh, &owner);
+            let mesh = neuromesh::mesher::finish(stage);
             lap(5, &mut best);
             tris = mesh.faces.len();
         }
         let total: f64 = best.iter().sum();
         println!(
-            "{}: parse {:.1}  tubes {:.1}  somas {:.1}  splice {:.1}  mesh {:.1}  overlaps {:.1}  = {:.1} ms, {tris} tris",
+            "{}: parse {:.1}  tubes {:.1}  somas {:.1}  splice {:.1}  fillers {:.1}  overlaps {:.1}  = {:.1} ms, {tris} tris",
             std::path::Path::new(&path)
                 .file_name()
                 .unwrap()

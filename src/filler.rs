@@ -36,8 +36,6 @@
 //! A cell meshed twice costs both meshings. Filler pieces left touching
 //! nothing, and voids the fillers close in, are removed after the union.
 
-use glam::DVec3;
-
 use crate::piece::{self, Caps};
 use crate::surface::Surface;
 use crate::track::Track;
@@ -79,7 +77,6 @@ pub fn build(
     spans: &[(u32, usize, usize)],
     tracks: &[Track],
     labels: impl Fn(u32) -> Vec<u32>,
-    anchor: impl Fn(u32) -> DVec3,
     cap_rings: u32,
 ) -> Vec<std::ops::Range<u32>> {
     let caps = Caps {
@@ -90,8 +87,9 @@ pub fn build(
     let mut parts = Vec::new();
     for &(b, from, end) in spans {
         let track = tracks[b as usize].prefix(end);
-        let (pieces, _) =
-            piece::build_pieces(surface, &track, &labels(b), b, from, anchor(b), caps);
+        // Capped at every start, no piece is spliced: the anchor is unused.
+        let anchor = track.samples[0].pos;
+        let (pieces, _) = piece::build_pieces(surface, &track, &labels(b), b, from, anchor, caps);
         parts.extend(pieces.into_iter().map(|t| t.tris));
     }
     parts

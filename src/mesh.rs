@@ -123,6 +123,41 @@ impl Mesh {
         self.view().volume()
     }
 
+    /// Keeps the faces `keep(f)` accepts and drops the vertices no kept face
+    /// uses; both keep their order.
+    pub fn retain_faces(&mut self, mut keep: impl FnMut(usize) -> bool) {
+        let mut f = 0;
+        self.faces.retain(|_| {
+            f += 1;
+            keep(f - 1)
+        });
+        let mut remap = vec![u32::MAX; self.vertices.len()];
+        for face in &self.faces {
+            for &v in face {
+                remap[v as usize] = 0;
+            }
+        }
+        let labels = self.vertex_sample.len() == self.vertices.len();
+        let mut next = 0usize;
+        for v in 0..remap.len() {
+            if remap[v] == 0 {
+                remap[v] = next as u32;
+                self.vertices[next] = self.vertices[v];
+                if labels {
+                    self.vertex_sample[next] = self.vertex_sample[v];
+                }
+                next += 1;
+            }
+        }
+        self.vertices.truncate(next);
+        if labels {
+            self.vertex_sample.truncate(next);
+        }
+        for face in &mut self.faces {
+            *face = face.map(|v| remap[v as usize]);
+        }
+    }
+
     /// Appends `other`, renumbering its faces.
     pub fn append(&mut self, other: &Mesh) {
         let offset = self.vertices.len() as u32;

@@ -49,20 +49,26 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
+    Ok(finish(construct(morphology, params)?))
+}
+
+/// Step 6 on a constructed stage: the mesh, with the overlaps resolved and
+/// the fillers united with the rest (or dropped; see [`crate::filler`]).
+pub fn finish(stage: TubeStage) -> Mesh {
     let TubeStage {
         surface,
         stats,
         owner,
         filler_parts,
         ..
-    } = construct(morphology, params)?;
+    } = stage;
     let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
     let has_fillers = face_owner
         .last()
-        .is_some_and(|&o| o != crate::overlap::NO_OWNER && o >= filler_parts);
+        .is_some_and(|&o| is_filler(o, filler_parts));
     if !has_fillers {
         resolve_overlaps(&mut mesh, &face_owner);
-        return Ok(mesh);
+        return mesh;
     }
     // The fillers add crossings; should the pass fail to cut one of them,
     // the cell is meshed as the paper builds it, without fillers, rather
@@ -84,7 +90,7 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
     } else {
         drop_shells(&mut mesh, &owner_after, filler_parts);
     }
-    Ok(mesh)
+    mesh
 }
 
 /// Removes the shells the fillers can leave (both found by the random
@@ -105,10 +111,9 @@ fn drop_shells(mesh: &mut Mesh, owner: &[u32], filler_parts: u32) {
         let [a, b, d] = view.triangle(f, c);
         volume[k as usize] += crate::mesh::dot(a, crate::mesh::cross(b, d));
     }
-    let mut filler_only = vec![owner.len() == component.len(); count];
+    let mut filler_only = vec![true; count];
     for (f, &k) in component.iter().enumerate() {
-        let o = owner.get(f).copied().unwrap_or(crate::overlap::NO_OWNER);
-        if o == crate::overlap::NO_OWNER || o < filler_parts {
+        if !is_filler(owner[f], filler_parts) {
             filler_only[k as usize] = false;
         }
     }
@@ -118,57 +123,19 @@ fn drop_shells(mesh: &mut Mesh, owner: &[u32], filler_parts: u32) {
     if !drop.contains(&true) || drop.iter().all(|&d| d) {
         return;
     }
-    let mut k = 0;
-    mesh.faces.retain(|_| {
-        k += 1;
-        !drop[component[k - 1] as usize]
-    });
-    // Renumber the vertices still used, in their order.
-    let mut remap = vec![u32::MAX; mesh.vertices.len()];
-    for f in &mesh.faces {
-        for &v in f {
-            remap[v as usize] = 0;
-        }
-    }
-    let mut next = 0u32;
-    for (v, slot) in remap.iter_mut().enumerate() {
-        if *slot == 0 {
-            *slot = next;
-            mesh.vertices[next as usize] = mesh.vertices[v];
-            if let Some(&s) = mesh.vertex_sample.get(v) {
-                mesh.vertex_sample[next as usize] = s;
-            }
-            next += 1;
-        }
-    }
-    mesh.vertices.truncate(next as usize);
-    mesh.vertex_sample.truncate(next as usize);
-    for f in &mut mesh.faces {
-        *f = f.map(|v| remap[v as usize]);
-    }
+    mesh.retain_faces(|f| !drop[component[f] as usize]);
 }
 
-/// Removes the fillers (faces of parts `filler_parts..`) from a mesh the
-/// overlap pass left as built: with nothing crossing, each filler lies
-/// wholly inside the rest ([`crate::filler`]). They are the last faces and
-/// their vertices the last vertices, and no other face uses those.
+/// Removes the fillers (faces of parts `filler_parts..`, by `face_owner`
+/// before the overlap pass) from a mesh the pass did not change, with their
+/// vertices, which no other face uses.
 fn drop_fillers(mesh: &mut Mesh, face_owner: &[u32], filler_parts: u32) {
-    let Some(first) = face_owner
-        .iter()
-        .position(|&o| o != crate::overlap::NO_OWNER && o >= filler_parts)
-    else {
-        return;
-    };
-    mesh.faces.truncate(first);
-    let used = mesh
-        .faces
-        .iter()
-        .flatten()
-        .map(|&v| v as usize + 1)
-        .max()
-        .unwrap_or(0);
-    mesh.vertices.truncate(used);
-    mesh.vertex_sample.truncate(used);
+    mesh.retain_faces(|f| !is_filler(face_owner[f], filler_parts));
+}
+
+/// Whether a face of part `owner` belongs to a filler.
+fn is_filler(owner: u32, filler_parts: u32) -> bool {
+    owner != crate::overlap::NO_OWNER && owner >= filler_parts
 }
 
 /// Steps 1 to 5: tubes, somas and junctions, before overlaps are resolved.
@@ -283,7 +250,6 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
         fillers,
         tracks,
         |b| sample_labels(&branches[b as usize]),
-        |b| tracks[b as usize].samples[0].pos,
         params.cap_rings,
     );
     owner.resize(surface.tris.len(), crate::overlap::NO_OWNER);
@@ -326,7 +292,8 @@ pub struct TubeStage {
     pub owner: Vec<u32>,
     /// Every branch's track.
     pub tracks: Vec<Track>,
-    /// The fillers to build: branch and end of its span ([`crate::filler`]).
+    /// The fillers to build: branch and its track points `from..to`
+    /// ([`crate::filler`]).
     pub fillers: Vec<(u32, usize, usize)>,
     /// Parts numbered from this one are fillers (set when they are built).
     pub filler_parts: u32,

@@ -352,14 +352,45 @@ fn crossing_pairs_at(
     pairs
 }
 
-/// The crossing pairs of faces at one of `dirty`'s vertices with any other
-/// face, of whatever part.
+/// The crossing pairs of faces at one of `dirty`'s vertices (the pieces the
+/// last round made) with any face, of whatever part: the proof does not
+/// compare pieces with faces of their own part. A BVH over the marked faces
+/// alone, met by every face's box in one pass, instead of a BVH over the
+/// whole mesh (which doubled the pass's time on an 11-million-triangle cell).
 fn crossings_at_any(mesh: &Mesh, dirty: &[u32]) -> u32 {
-    let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
-    let one = vec![NO_OWNER; mesh.faces.len()];
-    let runs = run_boxes(&pos, &mesh.faces, &one);
-    let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
-    crossing_pairs_at(&pos, &mesh.faces, &one, &runs, &bvh, dirty).len() as u32
+    let mut at = vec![false; mesh.vertices.len()];
+    for &v in dirty {
+        at[v as usize] = true;
+    }
+    let is_marked = |f: usize| mesh.faces[f].iter().any(|&k| at[k as usize]);
+    let marked: Vec<u32> = (0..mesh.faces.len())
+        .filter(|&f| is_marked(f))
+        .map(|f| f as u32)
+        .collect();
+    let corners = |f: usize| mesh.faces[f].map(|k| mesh.vertices[k as usize].map(f64::from));
+    let bvh = Bvh::new(
+        marked
+            .iter()
+            .map(|&f| Aabb::of(&corners(f as usize)))
+            .collect(),
+    );
+    let counts = crate::parallel::flat_map_range(mesh.faces.len(), |b| {
+        let tb = corners(b);
+        let b_marked = is_marked(b);
+        let mut n = 0u32;
+        bvh.for_each_overlap(&Aabb::of(&tb), |i| {
+            let a = marked[i as usize] as usize;
+            // A pair of two marked faces is counted from its larger face.
+            if a == b || (b_marked && a > b) {
+                return;
+            }
+            if crate::check::pair_intersects(mesh.faces[a], mesh.faces[b], corners(a), tb) {
+                n += 1;
+            }
+        });
+        if n > 0 { vec![n] } else { Vec::new() }
+    });
+    counts.iter().sum()
 }
 
 /// Crossing pairs grouped into clusters: pairs joined through shared faces

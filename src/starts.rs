@@ -43,8 +43,7 @@ pub struct Starts {
     /// One plan per tree with a soma.
     pub somas: Vec<SomaPlan>,
     /// Per branch, the track points `from..to` of its filler, if it gets one
-    /// ([`crate::filler`]).
-    /// With the volume it would add, estimated.
+    /// ([`crate::filler`]), and the volume it would add, estimated.
     pub filler: Vec<Option<(usize, usize, f64)>>,
 }
 

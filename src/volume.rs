@@ -61,14 +61,9 @@ pub fn first_outside_from(
 /// outside every one of `cones` (with their linear radius).
 pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone]) -> f64 {
     let s = &track.samples[i];
-    let r = track.radii[i];
-    let u = track.frames[i];
-    let v = s.tangent.cross(u);
     let m = track.counts[i];
-    let outside = (0..m)
-        .filter(|&j| {
-            let th = std::f64::consts::TAU * f64::from(j) / f64::from(m);
-            let p = s.pos + r * (th.cos() * u + th.sin() * v);
+    let outside = crate::contour::ring(s.pos, s.tangent, track.frames[i], track.radii[i], m)
+        .filter(|&p| {
             !cones
                 .iter()
                 .any(|&(a, b, ra, rb)| inside_cone(p, a, b, ra, rb, 0.0))
