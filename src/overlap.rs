@@ -775,11 +775,10 @@ fn classify(
             *slot = (area, f as u32);
         }
     }
-    const DIRS: [P3; 3] = [
-        [0.482_246, 0.731_105, 0.482_617],
-        [-0.658_471, 0.301_927, -0.689_352],
-        [0.237_104, -0.872_664, 0.426_871],
-    ];
+    let mut bounds = Aabb::EMPTY;
+    for r in runs {
+        bounds.add(&r.1);
+    }
     crate::parallel::map(&best, |&(_, f)| {
         if f == u32::MAX {
             return false; // a patch of dead faces only
@@ -796,19 +795,68 @@ fn classify(
         // leaves towards the outside.
         let o = old_faces[skip as usize].map(|k| old_pos[k as usize]);
         let n = crate::mesh::cross(crate::mesh::sub(o[1], o[0]), crate::mesh::sub(o[2], o[0]));
-        let outside = DIRS
-            .iter()
-            .map(|d| {
-                if crate::mesh::dot(*d, n) < 0.0 {
-                    d.map(|x| -x)
-                } else {
-                    *d
-                }
-            })
-            .filter(|d| winding(c, *d, skip, old_faces, old_pos, runs, bvh) == 0)
-            .count();
-        outside >= 2
+        let rays = ray_directions(c, n, &bounds);
+        let mut votes = [0u32; 2];
+        for d in rays {
+            let out = winding(c, d, skip, old_faces, old_pos, runs, bvh) == 0;
+            votes[usize::from(out)] += 1;
+            if votes[0] == 2 || votes[1] == 2 {
+                break;
+            }
+        }
+        votes[1] >= 2
     })
+}
+
+/// Ray directions for the vote: fixed, in general position (no axis, no
+/// diagonal, so a cell traced on a grid meets no ray edge-on), a clear angle
+/// into the side `n` points to, and of those the three that leave `bounds`
+/// soonest. The cost of a ray is the faces along it: one along a long cell's
+/// axis meets every branch on the way, one across it a few.
+fn ray_directions(c: P3, n: P3, bounds: &Aabb) -> [P3; 3] {
+    const DIRS: [P3; 14] = [
+        [0.982_246, 0.131_105, 0.132_617],
+        [-0.958_471, 0.201_927, -0.201_352],
+        [0.137_104, 0.972_664, 0.186_871],
+        [-0.176_871, -0.968_414, 0.175_723],
+        [0.156_223, -0.149_876, 0.976_282],
+        [-0.123_985, 0.187_113, -0.974_482],
+        [0.612_437, 0.541_228, 0.576_140],
+        [-0.552_173, 0.601_553, 0.577_337],
+        [0.598_662, -0.567_218, 0.565_508],
+        [0.541_009, 0.589_702, -0.599_642],
+        [-0.588_233, -0.553_712, 0.589_324],
+        [-0.561_284, 0.578_903, -0.591_327],
+        [0.603_715, -0.548_338, -0.578_631],
+        [-0.569_802, -0.596_114, -0.565_702],
+    ];
+    let len = crate::mesh::norm(n);
+    let mut ranked: Vec<(f64, f64, P3)> = DIRS
+        .iter()
+        .map(|&d| {
+            let cos = if len > 0.0 {
+                crate::mesh::dot(d, n) / len
+            } else {
+                0.0
+            };
+            let d = if cos < 0.0 { d.map(|x| -x) } else { d };
+            let exit = (0..3)
+                .map(|a| {
+                    if d[a] > 0.0 {
+                        (bounds.hi[a] - c[a]) / d[a]
+                    } else {
+                        (bounds.lo[a] - c[a]) / d[a]
+                    }
+                })
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0);
+            (cos.abs(), exit, d)
+        })
+        .collect();
+    // A clear angle first (a ray nearly in the face's plane leaves it on
+    // rounding), then the shortest.
+    ranked.sort_by(|a, b| (b.0 >= 0.25).cmp(&(a.0 >= 0.25)).then(a.1.total_cmp(&b.1)));
+    [ranked[0].2, ranked[1].2, ranked[2].2]
 }
 
 /// Winding number of the faces other than `skip` at `c`, counted along the ray
