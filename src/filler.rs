@@ -32,8 +32,8 @@
 //! A filler wholly inside the rest crosses nothing and is dropped with the
 //! other nested parts. The mesher removes the fillers when nothing at all
 //! crosses (the one case where the overlap pass does not run), and meshes
-//! the cell again without them if the pass leaves a crossing uncut or its
-//! last check finds cut pieces crossing ([`crate::mesher::mesh_morphology`]).
+//! the cell again without them if the pass leaves a crossing uncut
+//! ([`crate::mesher::finish`]).
 //! A cell meshed twice costs both meshings. Filler pieces left touching
 //! nothing, and voids the fillers close in, are removed after the union.
 

@@ -23,9 +23,9 @@
 //!    exactly the union's boundary; once anything is cut, it also drops parts
 //!    wholly inside others.
 //! 4. **Proof.** Every edge at a new vertex must be shared by exactly two kept
-//!    faces running it in opposite directions, and the kept pieces of cut faces
-//!    must not cross each other after the new vertices are rounded to the f32
-//!    output. Crossing pairs are grouped into clusters (one intersection curve
+//!    faces running it in opposite directions, and once the new vertices are
+//!    rounded to the f32 output the kept pieces of cut faces must cross
+//!    neither each other nor any face left as it was, of whatever part. Crossing pairs are grouped into clusters (one intersection curve
 //!    each); a cluster that fails (a degenerate contact, a rounding flip) is
 //!    left as it was while the others are cut.
 //! 5. **Nudges.** A contact is degenerate because f32 coordinates put points
@@ -100,17 +100,6 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>)
         out.pairs_left = once.outcome.pairs_left;
         out.failure = once.outcome.failure;
         if once.stuck.is_empty() || round + 1 == ROUNDS {
-            // The proof compares the pieces of different parts; pieces of
-            // one part re-triangulated next to each other are checked here,
-            // whatever their parts, at the vertices the last round made.
-            if !once.dirty.is_empty() {
-                let left = crossings_at_any(mesh, &once.dirty);
-                if left > 0 {
-                    out.pairs_left += left;
-                    out.failure
-                        .get_or_insert("pieces of one part cross after the cut");
-                }
-            }
             break;
         }
         nudge(mesh, &once.stuck, round as u64);
@@ -143,7 +132,7 @@ fn resolve_once(
     dirty: Option<&[u32]>,
 ) -> Round {
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
-    let boxes = run_boxes(&pos, &mesh.faces, owner);
+    let boxes = run_boxes(&pos, &mesh.faces, Some(owner));
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh),
@@ -230,15 +219,23 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
     }
 }
 
-/// Runs of up to [`RUN`] consecutive faces with one owner, with their boxes.
-fn run_boxes(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Vec<(std::ops::Range<u32>, Aabb)> {
+/// Runs of up to [`RUN`] consecutive faces, with their boxes: of one owner
+/// each (faces of [`NO_OWNER`] alone), or of any with `owner` `None`.
+fn run_boxes(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    owner: Option<&[u32]>,
+) -> Vec<(std::ops::Range<u32>, Aabb)> {
     let mut runs = Vec::with_capacity(faces.len() / RUN + 1);
     let mut start = 0usize;
     while start < faces.len() {
         let mut end = start + 1;
-        // Faces with no proven part are compared with every other face.
-        let run = if owner[start] == NO_OWNER { 1 } else { RUN };
-        while end < faces.len() && end - start < run && owner[end] == owner[start] {
+        let run = match owner {
+            // Faces with no proven part are compared with every other face.
+            Some(o) if o[start] == NO_OWNER => 1,
+            _ => RUN,
+        };
+        while end < faces.len() && end - start < run && owner.is_none_or(|o| o[end] == o[start]) {
             end += 1;
         }
         let mut b = Aabb::EMPTY;
@@ -350,47 +347,6 @@ fn crossing_pairs_at(
     pairs.sort_unstable();
     pairs.dedup();
     pairs
-}
-
-/// The crossing pairs of faces at one of `dirty`'s vertices (the pieces the
-/// last round made) with any face, of whatever part: the proof does not
-/// compare pieces with faces of their own part. A BVH over the marked faces
-/// alone, met by every face's box in one pass, instead of a BVH over the
-/// whole mesh (which doubled the pass's time on an 11-million-triangle cell).
-fn crossings_at_any(mesh: &Mesh, dirty: &[u32]) -> u32 {
-    let mut at = vec![false; mesh.vertices.len()];
-    for &v in dirty {
-        at[v as usize] = true;
-    }
-    let is_marked = |f: usize| mesh.faces[f].iter().any(|&k| at[k as usize]);
-    let marked: Vec<u32> = (0..mesh.faces.len())
-        .filter(|&f| is_marked(f))
-        .map(|f| f as u32)
-        .collect();
-    let corners = |f: usize| mesh.faces[f].map(|k| mesh.vertices[k as usize].map(f64::from));
-    let bvh = Bvh::new(
-        marked
-            .iter()
-            .map(|&f| Aabb::of(&corners(f as usize)))
-            .collect(),
-    );
-    let counts = crate::parallel::flat_map_range(mesh.faces.len(), |b| {
-        let tb = corners(b);
-        let b_marked = is_marked(b);
-        let mut n = 0u32;
-        bvh.for_each_overlap(&Aabb::of(&tb), |i| {
-            let a = marked[i as usize] as usize;
-            // A pair of two marked faces is counted from its larger face.
-            if a == b || (b_marked && a > b) {
-                return;
-            }
-            if crate::check::pair_intersects(mesh.faces[a], mesh.faces[b], corners(a), tb) {
-                n += 1;
-            }
-        });
-        if n > 0 { vec![n] } else { Vec::new() }
-    });
-    counts.iter().sum()
 }
 
 /// Crossing pairs grouped into clusters: pairs joined through shared faces
@@ -560,7 +516,20 @@ fn union(
             .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
             .collect();
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
-        match prove(&faces, &kept, &all_pos, first_piece, n_old, &origin_of) {
+        let near = Near {
+            runs,
+            bvh,
+            in_cluster: &face_cluster,
+        };
+        match prove(
+            &faces,
+            &kept,
+            &all_pos,
+            first_piece,
+            n_old,
+            &origin_of,
+            &near,
+        ) {
             Ok(()) => {
                 let left: usize = (0..clusters.len())
                     .filter(|&c| !ok[c])
@@ -887,10 +856,21 @@ fn winding(
     w
 }
 
+/// The old faces around the pieces, for [`prove`]: the round's runs and
+/// their BVH, and the cluster of each old face (`u32::MAX`: in none).
+struct Near<'a> {
+    runs: &'a [(std::ops::Range<u32>, Aabb)],
+    bvh: &'a Bvh,
+    in_cluster: &'a [u32],
+}
+
 /// Checks the kept faces around the new vertices: every edge there shared by
-/// two kept faces in opposite directions, one fan per vertex, no sliver, and
-/// no two kept pieces crossing each other once rounded to f32. On failure, the
-/// old faces at fault (`origin_of` names the old face of a piece).
+/// two kept faces in opposite directions, one fan per vertex, no sliver, and,
+/// once rounded to f32, no two kept pieces crossing each other and no kept
+/// piece crossing an old face outside the clusters (of whatever part: a piece
+/// of a tube that crosses a face of its own tube is caught here too). On
+/// failure, the old faces at fault (`origin_of` names the old face of a
+/// piece).
 fn prove(
     faces: &[[u32; 3]],
     kept: &[bool],
@@ -898,6 +878,7 @@ fn prove(
     first_piece: usize,
     n_old: u32,
     origin_of: &impl Fn(usize) -> u32,
+    near: &Near,
 ) -> Result<(), (&'static str, Vec<u32>)> {
     let is_new = |v: u32| v >= n_old;
     let mut uses: FastMap<(u32, u32), (u32, u32)> = FastMap::default();
@@ -985,6 +966,34 @@ fn prove(
         why = "rounded to f32, two kept pieces cross";
     }
     if bad.is_empty() {
+        // Nor may a kept piece cross an old face left as it was. The old
+        // faces sit in the round's BVH at their own (f32) coordinates.
+        let crossing = crate::parallel::flat_map_range(pieces.len(), |k| {
+            let p = pieces[k];
+            let tp = tri(p);
+            let bp = Aabb::of(&tp);
+            let mut hit = false;
+            near.bvh.for_each_overlap(&bp, |i| {
+                for b in near.runs[i as usize].0.clone() {
+                    if hit || !kept[b as usize] || near.in_cluster[b as usize] != u32::MAX {
+                        continue;
+                    }
+                    let tb = tri(b);
+                    hit = bp.overlaps(&Aabb::of(&tb))
+                        && crate::check::pair_intersects(
+                            faces[p as usize],
+                            faces[b as usize],
+                            tp,
+                            tb,
+                        );
+                }
+            });
+            if hit { vec![p] } else { Vec::new() }
+        });
+        bad.extend(crossing.iter().map(|&p| origin_of(p as usize)));
+        why = "rounded to f32, a kept piece crosses a face";
+    }
+    if bad.is_empty() {
         return Ok(());
     }
     bad.sort_unstable();
@@ -1035,7 +1044,7 @@ mod tests {
     fn the_search_at_marked_vertices_finds_the_pairs_at_them() {
         let (m, owner) = two_cubes([0.3, 0.4, 0.45]);
         let pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
-        let runs = run_boxes(&pos, &m.faces, &owner);
+        let runs = run_boxes(&pos, &m.faces, Some(&owner));
         let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
         let all = crossing_pairs(&pos, &m.faces, &owner, &runs, &bvh);
         assert!(!all.is_empty());
