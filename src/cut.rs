@@ -13,7 +13,7 @@
 //!
 //! Where an edge of each face passes (almost) through an edge of the other,
 //! the two piercings lie within a few f32 steps of each other: they become
-//! one vertex on both edges ([`MERGE_STEPS`]), since rounding them apart can
+//! one vertex on both edges (`MERGE_STEPS`), since rounding them apart can
 //! put the one inside a face on the wrong side of the edge it nearly touches.
 //!
 //! Other degenerate contacts (a vertex exactly on the other face's plane, two

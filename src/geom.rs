@@ -240,7 +240,7 @@ pub fn triangles_intersect_sharing_vertex(a: [P3; 3], b: [P3; 3]) -> bool {
     segment_hits_triangle(b[1], b[2], a) || segment_hits_triangle(a[1], a[2], b)
 }
 
-/// Whether two triangles sharing the edge (a[0], a[1]) == (b[0], b[1]) in some
+/// Whether two triangles sharing the edge `(a[0], a[1]) == (b[0], b[1])` in some
 /// order fold onto each other (coplanar, third vertices on the same side).
 pub fn triangles_fold_on_shared_edge(a: [P3; 3], b: [P3; 3]) -> bool {
     if orient3d_sign(a[0], a[1], a[2], b[2]) != 0 {

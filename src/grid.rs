@@ -13,7 +13,7 @@
 //! Removal is lazy: dead triangles stay in the cells and callers skip them.
 //!
 //! The grid holds *items*, runs of consecutive triangle indices. The surface
-//! is built band by band, so [`CHUNK`] consecutive triangles lie side by side;
+//! is built band by band, so `CHUNK` consecutive triangles lie side by side;
 //! indexing them as one box makes building the index over a whole cell 10-20x
 //! cheaper (it was a third of the mesh time) for a small cost per query, which
 //! tests each triangle of a visited run against the query box. Triangles added

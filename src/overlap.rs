@@ -31,8 +31,8 @@
 //! 5. **Nudges.** A contact is degenerate because f32 coordinates put points
 //!    exactly on each other's planes (tubes of one radius traced on a grid, a
 //!    flat cell with z = 0): the vertices of the clusters left uncut move by at
-//!    most [`NUDGE`] of their shortest edge, which puts them in general
-//!    position, and the pass runs again on its own output, up to [`ROUNDS`]
+//!    most `NUDGE` of their shortest edge, which puts them in general
+//!    position, and the pass runs again on its own output, up to `ROUNDS`
 //!    times. The report counts the crossing pairs still left after the last.
 
 use crate::bvh::{Aabb, Bvh};

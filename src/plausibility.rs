@@ -13,7 +13,7 @@ use crate::morphology::{Morphology, NO_PARENT};
 const RADIUS_PER_SEGMENT: f64 = 20.0;
 
 /// Why the radii of `m` look like another unit than its coordinates, if they do:
-/// the median neurite radius is over [`RADIUS_PER_SEGMENT`] median segment
+/// the median neurite radius is over `RADIUS_PER_SEGMENT` median segment
 /// lengths, or the largest neurite radius exceeds the bounding box's diagonal.
 pub fn radius_warning(m: &Morphology) -> Option<String> {
     let (pos, rad, parent) = (m.positions(), m.radii(), m.parents());

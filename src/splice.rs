@@ -2,7 +2,7 @@
 //!
 //! A secondary branch's tube starts open at its first contour C_1sec (the
 //! contours that touch the primary's volume were never built, see
-//! [`first_outside`]). Splicing joins that open end to the surface it grows out
+//! [`first_outside`](crate::volume::first_outside)). Splicing joins that open end to the surface it grows out
 //! of:
 //!
 //! 1. **Target.** A ray from C_1sec's centre towards the branch point; the
