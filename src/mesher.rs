@@ -60,6 +60,7 @@ pub fn finish(stage: TubeStage) -> Mesh {
         stats,
         owner,
         filler_parts,
+        filler_of_part,
         ..
     } = stage;
     let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
@@ -82,7 +83,41 @@ pub fn finish(stage: TubeStage) -> Mesh {
         drop_fillers(&mut mesh, &face_owner, filler_parts);
         mesh.stats.fillers = 0;
     } else if mesh.stats.overlap_pairs_left > 0 {
+        // First without only the fillers in the crossings left, then, should
+        // that leave crossings too, without any.
+        let stuck: Vec<u32> = crate::overlap::crossing_parts(&mesh, &owner_after)
+            .into_iter()
+            .filter(|&o| is_filler(o, filler_parts))
+            .collect();
         mesh = before;
+        if !stuck.is_empty() && stuck.len() < filler_of_part.len() {
+            let mut fewer = mesh.clone();
+            let keep: Vec<bool> = face_owner
+                .iter()
+                .map(|o| stuck.binary_search(o).is_err())
+                .collect();
+            let owner_fewer: Vec<u32> = face_owner
+                .iter()
+                .copied()
+                .filter(|o| stuck.binary_search(o).is_err())
+                .collect();
+            fewer.retain_faces(|f| keep[f]);
+            let (outcome, owner_after) =
+                crate::overlap::resolve_with_owner(&mut fewer, &owner_fewer);
+            if outcome.pairs > 0 && outcome.pairs_left == 0 {
+                fewer.stats.overlap_pairs = outcome.pairs;
+                fewer.stats.overlap_pairs_left = 0;
+                drop_shells(&mut fewer, &owner_after, filler_parts);
+                let mut left: Vec<u32> = (0..filler_of_part.len() as u32)
+                    .filter(|k| stuck.binary_search(&(filler_parts + k)).is_err())
+                    .map(|k| filler_of_part[k as usize])
+                    .collect();
+                left.sort_unstable();
+                left.dedup();
+                fewer.stats.fillers = left.len() as u32;
+                return fewer;
+            }
+        }
         drop_fillers(&mut mesh, &face_owner, filler_parts);
         mesh.stats.fillers = 0;
         let kept = mesh.faces.len();
@@ -243,6 +278,7 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
         tracks,
         fillers,
         owner,
+        filler_of_part,
         ..
     } = stage;
     let parts = crate::filler::build(
@@ -253,7 +289,8 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
         params.cap_rings,
     );
     owner.resize(surface.tris.len(), crate::overlap::NO_OWNER);
-    for (k, tris) in parts.into_iter().enumerate() {
+    *filler_of_part = parts.iter().map(|p| p.0).collect();
+    for (k, (_, tris)) in parts.into_iter().enumerate() {
         for o in &mut owner[tris.start as usize..tris.end as usize] {
             *o = base + k as u32;
         }
@@ -297,6 +334,9 @@ pub struct TubeStage {
     pub fillers: Vec<(u32, usize, usize)>,
     /// Parts numbered from this one are fillers (set when they are built).
     pub filler_parts: u32,
+    /// The filler (index in `fillers`) of each filler part, from
+    /// `filler_parts` on: a filler is one part per tube piece.
+    pub filler_of_part: Vec<u32>,
 }
 
 /// Steps 1 to 3 of the pipeline: branches, tracks, first contours and tubes.
@@ -451,6 +491,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         tracks,
         fillers,
         filler_parts: u32::MAX,
+        filler_of_part: Vec::new(),
     })
 }
 

@@ -112,6 +112,23 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>)
     (out, owner)
 }
 
+/// The parts (`owner` of each face of `mesh`) of the faces in crossing pairs,
+/// sorted, once each: after [`resolve_with_owner`] left pairs, which parts
+/// they are in.
+pub fn crossing_parts(mesh: &Mesh, owner: &[u32]) -> Vec<u32> {
+    let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
+    let runs = run_boxes(&pos, &mesh.faces, Some(owner));
+    let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+    let mut parts: Vec<u32> = crossing_pairs(&pos, &mesh.faces, owner, &runs, &bvh)
+        .iter()
+        .flatten()
+        .map(|&f| owner[f as usize])
+        .collect();
+    parts.sort_unstable();
+    parts.dedup();
+    parts
+}
+
 /// What one round did and left to the next.
 struct Round {
     outcome: Outcome,
