@@ -31,10 +31,11 @@
 //! get none (the soma is one sphere in the reference, not its samples).
 //! A filler wholly inside the rest crosses nothing and is dropped with the
 //! other nested parts. The mesher removes the fillers when nothing at all
-//! crosses (the one case where the overlap pass does not run), and meshes
-//! the cell again without them if the pass leaves a crossing uncut
-//! ([`crate::mesher::finish`]).
-//! A cell meshed twice costs both meshings. Filler pieces left touching
+//! crosses (the one case where the overlap pass does not run). If the pass
+//! leaves a crossing uncut, the cell is meshed again without the filler
+//! pieces in the crossings left, then, if need be, without any
+//! ([`crate::mesher::finish`]); each meshing costs its own time (a FlyWire
+//! neuron: 1.7 s against 1.0 s without fillers). Filler pieces left touching
 //! nothing, and voids the fillers close in, are removed after the union.
 
 use crate::piece::{self, Caps};

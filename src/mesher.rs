@@ -71,9 +71,10 @@ pub fn finish(stage: TubeStage) -> Mesh {
         resolve_overlaps(&mut mesh, &face_owner);
         return mesh;
     }
-    // The fillers add crossings; should the pass fail to cut one of them,
-    // the cell is meshed as the paper builds it, without fillers, rather
-    // than left crossing itself.
+    // The fillers add crossings; should the pass fail to cut some, the cell
+    // is meshed again without the filler pieces in them (and, should that
+    // fail too, as the paper builds it, without fillers) rather than left
+    // crossing itself.
     let before = mesh.clone();
     let (outcome, owner_after) = crate::overlap::resolve_with_owner(&mut mesh, &face_owner);
     mesh.stats.overlap_pairs = outcome.pairs;
