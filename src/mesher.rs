@@ -72,61 +72,84 @@ pub fn finish(stage: TubeStage) -> Mesh {
         return mesh;
     }
     // The fillers add crossings; should the pass fail to cut some, the cell
-    // is meshed again without the filler pieces in them (and, should that
-    // fail too, as the paper builds it, without fillers) rather than left
+    // is meshed again without the filler pieces in them, and should that
+    // fail too, as the paper builds it, without fillers, rather than left
     // crossing itself.
-    let before = mesh.clone();
-    let (outcome, owner_after) = crate::overlap::resolve_with_owner(&mut mesh, &face_owner);
-    mesh.stats.overlap_pairs = outcome.pairs;
-    mesh.stats.overlap_pairs_left = outcome.pairs_left;
-    if mesh.stats.overlap_pairs == 0 {
-        // Nothing crosses: every filler lies inside the rest.
-        drop_fillers(&mut mesh, &face_owner, filler_parts);
-        mesh.stats.fillers = 0;
-    } else if mesh.stats.overlap_pairs_left > 0 {
-        // First without only the fillers in the crossings left, then, should
-        // that leave crossings too, without any.
-        let stuck: Vec<u32> = crate::overlap::crossing_parts(&mesh, &owner_after)
-            .into_iter()
-            .filter(|&o| is_filler(o, filler_parts))
-            .collect();
-        mesh = before;
-        if !stuck.is_empty() && stuck.len() < filler_of_part.len() {
-            let mut fewer = mesh.clone();
-            let keep: Vec<bool> = face_owner
-                .iter()
-                .map(|o| stuck.binary_search(o).is_err())
-                .collect();
-            let owner_fewer: Vec<u32> = face_owner
-                .iter()
-                .copied()
-                .filter(|o| stuck.binary_search(o).is_err())
-                .collect();
-            fewer.retain_faces(|f| keep[f]);
-            let (outcome, owner_after) =
-                crate::overlap::resolve_with_owner(&mut fewer, &owner_fewer);
-            if outcome.pairs > 0 && outcome.pairs_left == 0 {
-                fewer.stats.overlap_pairs = outcome.pairs;
-                fewer.stats.overlap_pairs_left = 0;
-                drop_shells(&mut fewer, &owner_after, filler_parts);
-                let mut left: Vec<u32> = (0..filler_of_part.len() as u32)
-                    .filter(|k| stuck.binary_search(&(filler_parts + k)).is_err())
-                    .map(|k| filler_of_part[k as usize])
-                    .collect();
-                left.sort_unstable();
-                left.dedup();
-                fewer.stats.fillers = left.len() as u32;
-                return fewer;
-            }
-        }
-        drop_fillers(&mut mesh, &face_owner, filler_parts);
-        mesh.stats.fillers = 0;
-        let kept = mesh.faces.len();
-        resolve_overlaps(&mut mesh, &face_owner[..kept]);
-    } else {
-        drop_shells(&mut mesh, &owner_after, filler_parts);
+    let fillers = Fillers {
+        first_part: filler_parts,
+        of_part: &filler_of_part,
+    };
+    let (united, resolved) = fillers.unite_without(&mesh, &face_owner, |_| false);
+    if resolved.outcome.pairs_left == 0 {
+        return united;
     }
-    mesh
+    let stuck: Vec<u32> = resolved
+        .left_parts
+        .iter()
+        .copied()
+        .filter(|&o| fillers.has(o))
+        .collect();
+    if !stuck.is_empty() && stuck.len() < filler_of_part.len() {
+        let (fewer, resolved) =
+            fillers.unite_without(&mesh, &face_owner, |o| stuck.binary_search(&o).is_ok());
+        if resolved.outcome.pairs_left == 0 {
+            return fewer;
+        }
+    }
+    fillers
+        .unite_without(&mesh, &face_owner, |o| fillers.has(o))
+        .0
+}
+
+/// The fillers' parts of a mesh: parts from `first_part` on, each of the
+/// filler `of_part[part - first_part]`.
+struct Fillers<'a> {
+    first_part: u32,
+    of_part: &'a [u32],
+}
+
+impl Fillers<'_> {
+    /// Whether part `o` is a filler's.
+    fn has(&self, o: u32) -> bool {
+        is_filler(o, self.first_part)
+    }
+
+    /// `mesh` (whose face `f` is of part `face_owner[f]`) without the faces
+    /// of the filler parts `dropped` accepts, its overlaps resolved, and what
+    /// the pass told. Where nothing crosses, the fillers lie inside the rest
+    /// and are removed; where the union was built, so are the shells
+    /// [`drop_shells`] names. `stats.fillers` counts the fillers kept.
+    fn unite_without(
+        &self,
+        mesh: &Mesh,
+        face_owner: &[u32],
+        dropped: impl Fn(u32) -> bool,
+    ) -> (Mesh, crate::overlap::Resolved) {
+        let mut out = mesh.clone();
+        let gone = |o: u32| self.has(o) && dropped(o);
+        let owner: Vec<u32> = face_owner.iter().copied().filter(|&o| !gone(o)).collect();
+        if owner.len() < face_owner.len() {
+            out.retain_faces(|f| !gone(face_owner[f]));
+        }
+        let resolved = crate::overlap::resolve_with_owner(&mut out, &owner);
+        out.stats.overlap_pairs = resolved.outcome.pairs;
+        out.stats.overlap_pairs_left = resolved.outcome.pairs_left;
+        let mut kept: Vec<u32> = (0..self.of_part.len() as u32)
+            .filter(|&k| !dropped(self.first_part + k))
+            .map(|k| self.of_part[k as usize])
+            .collect();
+        if resolved.outcome.pairs == 0 {
+            // The pass changed nothing: `owner` still names the faces.
+            out.retain_faces(|f| !self.has(owner[f]));
+            kept.clear();
+        } else if resolved.outcome.pairs_left == 0 && !kept.is_empty() {
+            drop_shells(&mut out, &resolved.owner, self.first_part);
+        }
+        kept.sort_unstable();
+        kept.dedup();
+        out.stats.fillers = kept.len() as u32;
+        (out, resolved)
+    }
 }
 
 /// Removes the shells the fillers can leave (both found by the random
@@ -160,13 +183,6 @@ fn drop_shells(mesh: &mut Mesh, owner: &[u32], filler_parts: u32) {
         return;
     }
     mesh.retain_faces(|f| !drop[component[f] as usize]);
-}
-
-/// Removes the fillers (faces of parts `filler_parts..`, by `face_owner`
-/// before the overlap pass) from a mesh the pass did not change, with their
-/// vertices, which no other face uses.
-fn drop_fillers(mesh: &mut Mesh, face_owner: &[u32], filler_parts: u32) {
-    mesh.retain_faces(|f| !is_filler(face_owner[f], filler_parts));
 }
 
 /// Whether a face of part `owner` belongs to a filler.

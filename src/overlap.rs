@@ -25,9 +25,10 @@
 //! 4. **Proof.** Every edge at a new vertex must be shared by exactly two kept
 //!    faces running it in opposite directions, and once the new vertices are
 //!    rounded to the f32 output the kept pieces of cut faces must cross
-//!    neither each other nor any face left as it was, of whatever part. Crossing pairs are grouped into clusters (one intersection curve
-//!    each); a cluster that fails (a degenerate contact, a rounding flip) is
-//!    left as it was while the others are cut.
+//!    neither each other nor any face left as it was, of whatever part.
+//!    Crossing pairs are grouped into clusters (one intersection curve each);
+//!    a cluster that fails (a degenerate contact, a rounding flip) is left as
+//!    it was while the others are cut.
 //! 5. **Nudges.** A contact is degenerate because f32 coordinates put points
 //!    exactly on each other's planes (tubes of one radius traced on a grid, a
 //!    flat cell with z = 0): the vertices of the clusters left uncut move by at
@@ -77,11 +78,24 @@ const NUDGE: f64 = 1e-3;
 /// everything). Where a crossing cannot be cut, its faces are left as they
 /// were (see the module docs).
 pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
-    resolve_with_owner(mesh, owner).0
+    resolve_with_owner(mesh, owner).outcome
 }
 
-/// [`resolve`], also returning the part of each face of the result.
-pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>) {
+/// What [`resolve_with_owner`] tells besides the mesh.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// What the pass did.
+    pub outcome: Outcome,
+    /// The part of each face of the result.
+    pub owner: Vec<u32>,
+    /// The parts of the faces in crossing pairs still left, sorted, once
+    /// each (empty when the union was built).
+    pub left_parts: Vec<u32>,
+}
+
+/// [`resolve`], also telling the part of each face of the result and the
+/// parts of the crossings it left.
+pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
     let mut owner: Vec<u32> = if owner.len() == mesh.faces.len() {
         owner.to_vec()
     } else {
@@ -92,6 +106,7 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>)
     // that round made or kept uncut, or that the nudge moved: every other face
     // kept its f32 corners, and its crossings were all cut.
     let mut dirty: Option<Vec<u32>> = None;
+    let mut left_parts = Vec::new();
     for round in 0..ROUNDS {
         let once = resolve_once(mesh, &mut owner, round == 0, dirty.as_deref());
         if round == 0 {
@@ -99,6 +114,7 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>)
         }
         out.pairs_left = once.outcome.pairs_left;
         out.failure = once.outcome.failure;
+        left_parts = once.left_parts;
         if once.stuck.is_empty() || round + 1 == ROUNDS {
             break;
         }
@@ -109,24 +125,11 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> (Outcome, Vec<u32>)
         next.dedup();
         dirty = Some(next);
     }
-    (out, owner)
-}
-
-/// The parts (`owner` of each face of `mesh`) of the faces in crossing pairs,
-/// sorted, once each: after [`resolve_with_owner`] left pairs, which parts
-/// they are in.
-pub fn crossing_parts(mesh: &Mesh, owner: &[u32]) -> Vec<u32> {
-    let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
-    let runs = run_boxes(&pos, &mesh.faces, Some(owner));
-    let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
-    let mut parts: Vec<u32> = crossing_pairs(&pos, &mesh.faces, owner, &runs, &bvh)
-        .iter()
-        .flatten()
-        .map(|&f| owner[f as usize])
-        .collect();
-    parts.sort_unstable();
-    parts.dedup();
-    parts
+    Resolved {
+        outcome: out,
+        owner,
+        left_parts,
+    }
 }
 
 /// What one round did and left to the next.
@@ -138,6 +141,8 @@ struct Round {
     /// The vertices of faces that may still cross something: the new ones and
     /// those of the clusters left uncut.
     dirty: Vec<u32>,
+    /// The parts of the faces of the clusters left uncut ([`Resolved`]).
+    left_parts: Vec<u32>,
 }
 
 /// One round; with `dirty` (vertices), only faces at one of them are looked
@@ -149,7 +154,7 @@ fn resolve_once(
     dirty: Option<&[u32]>,
 ) -> Round {
     let pos: Vec<P3> = mesh.vertices.iter().map(|v| v.map(f64::from)).collect();
-    let boxes = run_boxes(&pos, &mesh.faces, Some(owner));
+    let boxes = run_boxes(&pos, &mesh.faces, owner);
     let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh),
@@ -165,6 +170,7 @@ fn resolve_once(
             outcome: out,
             stuck: Vec::new(),
             dirty: Vec::new(),
+            left_parts: Vec::new(),
         };
     }
     match union(mesh, owner, pos, &pairs, &boxes, &bvh, whole) {
@@ -177,11 +183,13 @@ fn resolve_once(
                 outcome: out,
                 stuck: built.stuck,
                 dirty: built.dirty,
+                left_parts: built.left_parts,
             }
         }
         Err((why, culprits)) => {
             out.failure = Some(why);
             let all: Vec<u32> = pairs.iter().flatten().copied().collect();
+            let left_parts = parts_of(owner, &all);
             let dirty = vertices_of(&mesh.faces, &all);
             let stuck = if whole {
                 dirty.clone()
@@ -192,9 +200,18 @@ fn resolve_once(
                 outcome: out,
                 stuck,
                 dirty,
+                left_parts,
             }
         }
     }
+}
+
+/// The parts `owner[f]` for each `f` in `which`, sorted, once each.
+fn parts_of(owner: &[u32], which: &[u32]) -> Vec<u32> {
+    let mut p: Vec<u32> = which.iter().map(|&f| owner[f as usize]).collect();
+    p.sort_unstable();
+    p.dedup();
+    p
 }
 
 /// The vertices of `faces[f]` for each `f` in `which`, sorted, once each.
@@ -236,23 +253,15 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
     }
 }
 
-/// Runs of up to [`RUN`] consecutive faces, with their boxes: of one owner
-/// each (faces of [`NO_OWNER`] alone), or of any with `owner` `None`.
-fn run_boxes(
-    pos: &[P3],
-    faces: &[[u32; 3]],
-    owner: Option<&[u32]>,
-) -> Vec<(std::ops::Range<u32>, Aabb)> {
+/// Runs of up to [`RUN`] consecutive faces with one owner, with their boxes.
+fn run_boxes(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Vec<(std::ops::Range<u32>, Aabb)> {
     let mut runs = Vec::with_capacity(faces.len() / RUN + 1);
     let mut start = 0usize;
     while start < faces.len() {
         let mut end = start + 1;
-        let run = match owner {
-            // Faces with no proven part are compared with every other face.
-            Some(o) if o[start] == NO_OWNER => 1,
-            _ => RUN,
-        };
-        while end < faces.len() && end - start < run && owner.is_none_or(|o| o[end] == o[start]) {
+        // Faces with no proven part are compared with every other face.
+        let run = if owner[start] == NO_OWNER { 1 } else { RUN };
+        while end < faces.len() && end - start < run && owner[end] == owner[start] {
             end += 1;
         }
         let mut b = Aabb::EMPTY;
@@ -408,6 +417,8 @@ struct Built {
     stuck: Vec<u32>,
     /// The new vertices and those of the faces of clusters left uncut.
     dirty: Vec<u32>,
+    /// The parts of the faces of clusters left uncut.
+    left_parts: Vec<u32>,
 }
 
 /// The union's boundary where it could be built.
@@ -598,6 +609,7 @@ fn union(
                     failure,
                     stuck,
                     dirty,
+                    left_parts: parts_of(owner, &uncut),
                 });
             }
             Err((why, at_fault)) => {
@@ -1061,7 +1073,7 @@ mod tests {
     fn the_search_at_marked_vertices_finds_the_pairs_at_them() {
         let (m, owner) = two_cubes([0.3, 0.4, 0.45]);
         let pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
-        let runs = run_boxes(&pos, &m.faces, Some(&owner));
+        let runs = run_boxes(&pos, &m.faces, &owner);
         let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
         let all = crossing_pairs(&pos, &m.faces, &owner, &runs, &bvh);
         assert!(!all.is_empty());
