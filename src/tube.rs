@@ -258,7 +258,7 @@ fn connect_by_angles(
 /// A strictly increasing function of the angle of `(x, y)` over one turn,
 /// in [0, 4) (the "diamond angle"): what [`connect_loops_about`] needs of an
 /// angle is its order, and this gives the same order as `atan2` without its
-/// cost (a tenth of a tube's time went to `atan2`).
+/// cost (`atan2` was 4.3 % of a whole cell's profile, Allen 177300).
 fn pseudo_angle(x: f64, y: f64) -> f64 {
     if y >= 0.0 {
         if x >= 0.0 {
@@ -357,9 +357,6 @@ fn connect_by_pseudo_angles(
 /// otherwise the fraction of the loop's length (a region's jagged rim).
 fn loop_parameter(surface: &Surface, lp: &[u32], raw: &[f64], start: f64) -> Vec<f64> {
     let tau = std::f64::consts::TAU;
-    // The first vertex is at `start` (which only differs from its angle by
-    // turns and rounding): unwrapped, a rounding below it would put it a whole
-    // turn ahead and throw the loop onto the length rule.
     // The first vertex is at `start` (which differs from its angle only by
     // turns and rounding): unwrapped, a rounding below it would put it a
     // whole turn ahead and throw the loop onto the length rule.
