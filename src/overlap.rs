@@ -177,7 +177,6 @@ fn resolve_once(
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
-            *mesh = built.mesh;
             *owner = built.owner;
             Round {
                 outcome: out,
@@ -406,8 +405,7 @@ fn clusters_of(pairs: &[[u32; 2]]) -> Vec<Vec<[u32; 2]>> {
 
 /// What one round of the pass built.
 struct Built {
-    mesh: Mesh,
-    /// Part of each face of `mesh`.
+    /// Part of each face of the mesh.
     owner: Vec<u32>,
     /// Crossing pairs in clusters left uncut.
     pairs_left: u32,
@@ -583,7 +581,7 @@ fn union(
                     .filter(|&k| k != u32::MAX)
                     .collect();
                 dirty.sort_unstable();
-                let (out, out_owner) = assemble(
+                let out_owner = assemble(
                     mesh,
                     faces,
                     &kept,
@@ -603,7 +601,6 @@ fn union(
                     },
                 );
                 return Ok(Built {
-                    mesh: out,
                     owner: out_owner,
                     pairs_left: left as u32,
                     failure,
@@ -623,50 +620,72 @@ fn union(
     }
 }
 
-/// New number of every vertex used by a kept face, in order of first use
-/// (`u32::MAX` for the others): the numbering [`assemble`] gives.
+/// New number of every vertex used by a kept face, in the vertices' order
+/// (`u32::MAX` for the others): the numbering [`assemble`] gives. A vertex
+/// never moves up, so the old ones compact in place.
 fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) -> Vec<u32> {
     let mut remap = vec![u32::MAX; n_vertices];
-    let mut next = 0;
     for (face, _) in faces.iter().zip(kept).filter(|x| *x.1) {
         for &k in face {
-            let slot = &mut remap[k as usize];
-            if *slot == u32::MAX {
-                *slot = next;
-                next += 1;
-            }
+            remap[k as usize] = 0;
+        }
+    }
+    let mut next = 0;
+    for slot in &mut remap {
+        if *slot == 0 {
+            *slot = next;
+            next += 1;
         }
     }
     remap
 }
 
-/// The kept faces with their used vertices renumbered by `remap` (from
-/// [`renumbering`]), compacted in place in `faces`, and the part of each
+/// Makes `mesh` the kept faces with their used vertices renumbered by `remap`
+/// (from [`renumbering`]), all compacted in place (the old vertices and labels
+/// in `mesh`, the faces in `faces`), and returns the part of each face
 /// (`owner_of(f)` for face `f`); `label_from(k)` names the old vertex whose
-/// label vertex `k` takes.
+/// label vertex `k` takes. In place, because on a large cell fresh arrays of
+/// the mesh's size cost more in page faults than the copying itself.
 fn assemble(
-    mesh: &Mesh,
+    mesh: &mut Mesh,
     mut faces: Vec<[u32; 3]>,
     kept: &[bool],
     all_pos: &[P3],
     remap: &[u32],
     owner_of: impl Fn(usize) -> u32,
     label_from: impl Fn(u32) -> u32,
-) -> (Mesh, Vec<u32>) {
-    let n_used = remap.iter().filter(|&&k| k != u32::MAX).count();
-    let mut vertices: Vec<[f32; 3]> = vec![[0.0; 3]; n_used];
+) -> Vec<u32> {
+    let n_old = mesh.vertices.len();
     let labels = !mesh.vertex_sample.is_empty();
-    let mut vertex_sample: Vec<u32> = if labels { vec![0; n_used] } else { Vec::new() };
-    for (k, &to) in remap.iter().enumerate() {
-        if to == u32::MAX {
-            continue;
-        }
-        let p = all_pos[k];
-        vertices[to as usize] = [p[0] as f32, p[1] as f32, p[2] as f32];
-        if labels {
-            vertex_sample[to as usize] = mesh.vertex_sample[label_from(k as u32) as usize];
+    // The new vertices' labels, read before the old labels move.
+    let new_labels: Vec<u32> = if labels {
+        (n_old..all_pos.len())
+            .filter(|&k| remap[k] != u32::MAX)
+            .map(|k| mesh.vertex_sample[label_from(k as u32) as usize])
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut w = 0;
+    for k in 0..n_old {
+        if remap[k] != u32::MAX {
+            debug_assert_eq!(remap[k] as usize, w);
+            mesh.vertices[w] = mesh.vertices[k];
+            if labels {
+                mesh.vertex_sample[w] = mesh.vertex_sample[k];
+            }
+            w += 1;
         }
     }
+    mesh.vertices.truncate(w);
+    mesh.vertex_sample.truncate(if labels { w } else { 0 });
+    for k in n_old..all_pos.len() {
+        if remap[k] != u32::MAX {
+            let p = all_pos[k];
+            mesh.vertices.push([p[0] as f32, p[1] as f32, p[2] as f32]);
+        }
+    }
+    mesh.vertex_sample.extend_from_slice(&new_labels);
     // Kept faces move down (never up), so the list compacts in place.
     let mut out_owner = Vec::with_capacity(faces.len());
     let mut w = 0;
@@ -678,15 +697,8 @@ fn assemble(
         }
     }
     faces.truncate(w);
-    (
-        Mesh {
-            vertices,
-            faces,
-            vertex_sample,
-            stats: mesh.stats.clone(),
-        },
-        out_owner,
-    )
+    mesh.faces = faces;
+    out_owner
 }
 
 /// Patch number of every face: faces joined through an old vertex (a cut
