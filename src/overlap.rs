@@ -678,7 +678,7 @@ fn assemble(
         }
     }
     mesh.vertices.truncate(w);
-    mesh.vertex_sample.truncate(if labels { w } else { 0 });
+    mesh.vertex_sample.truncate(w);
     for k in n_old..all_pos.len() {
         if remap[k] != u32::MAX {
             let p = all_pos[k];

@@ -13,9 +13,10 @@ use std::fmt::Write as _;
 
 use glam::DVec3;
 
-/// A small, fast, seeded generator (SplitMix64), enough for shapes.
+/// A small, fast, seeded generator (SplitMix64), enough for shapes; the
+/// crate's tests take it too.
 #[derive(Debug, Clone)]
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     fn next_u64(&mut self) -> u64 {
@@ -25,7 +26,7 @@ impl Rng {
     }
 
     /// Uniform in [0, 1).
-    fn f64(&mut self) -> f64 {
+    pub(crate) fn f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 

@@ -319,7 +319,7 @@ fn connect_by_pseudo_angles(
     let mut best = f64::NEG_INFINITY;
     for (j, &k) in b.iter().enumerate() {
         let (x, y) = plane(k, cb);
-        let n = x.hypot(y);
+        let n = (x * x + y * y).sqrt();
         if n == 0.0 {
             return false;
         }
@@ -477,13 +477,8 @@ mod tests {
     /// random pairs of tilted, shifted contours of different sizes.
     #[test]
     fn pseudo_angles_give_the_band_angles_give() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::synthetic::Rng(0x2545_f491_4f6c_dd1d);
+        let mut rnd = move || rng.f64();
         let loop_at = |s: &mut Surface, c: DVec3, n: DVec3, m: u32, r: f64, turn: f64| {
             let u = contour::any_perpendicular(n);
             let u = u * turn.cos() + n.cross(u) * turn.sin();
