@@ -82,21 +82,23 @@ pub fn span(track: &Track, start: Option<usize>, cones: &[Cone]) -> Option<(usiz
 
 /// Builds the fillers of `spans` into `surface` (closed pieces, each a part
 /// of its own) and returns, per piece, its span's index and its triangles.
-pub fn build(
+pub fn build<'t>(
     surface: &mut Surface,
     spans: &[(u32, usize, usize)],
-    tracks: &[Track],
+    track_of: impl Fn(u32) -> &'t Track,
     labels: impl Fn(u32) -> Vec<u32>,
     cap_rings: u32,
+    end_rings: impl Fn(u32, usize) -> u32,
 ) -> Vec<(u32, std::ops::Range<u32>)> {
-    let caps = Caps {
-        first_start: true,
-        later_starts: true,
-        rings: cap_rings,
-    };
     let mut parts = Vec::new();
     for (k, &(b, from, end)) in spans.iter().enumerate() {
-        let track = tracks[b as usize].prefix(end);
+        let caps = Caps {
+            first_start: true,
+            later_starts: true,
+            rings: cap_rings,
+            end_rings: end_rings(b, end),
+        };
+        let track = track_of(b).prefix(end);
         // Capped at every start, no piece is spliced: the anchor is unused.
         let anchor = track.samples[0].pos;
         let (pieces, _) = piece::build_pieces(surface, &track, &labels(b), b, from, anchor, caps);

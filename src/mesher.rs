@@ -294,6 +294,7 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
         branches,
         tracks,
         fillers,
+        filler_track,
         owner,
         filler_of_part,
         ..
@@ -301,9 +302,15 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
     let parts = crate::filler::build(
         surface,
         fillers,
-        tracks,
+        |b| filler_track[b as usize].as_ref().unwrap_or(&tracks[b as usize]),
         |b| sample_labels(&branches[b as usize]),
         params.cap_rings,
+        // A trunk's straight first cone ends flat unless it ends at its
+        // sample (see `starts::set_trunk_filler`).
+        |b, end| match &filler_track[b as usize] {
+            Some(t) if end < t.samples.len() => 0,
+            _ => params.cap_rings,
+        },
     );
     owner.resize(surface.tris.len(), crate::overlap::NO_OWNER);
     *filler_of_part = parts.iter().map(|p| p.0).collect();
@@ -349,6 +356,9 @@ pub struct TubeStage {
     /// The fillers to build: branch and its track points `from..to`
     /// ([`crate::filler`]).
     pub fillers: Vec<(u32, usize, usize)>,
+    /// Per branch, the track its filler is built from when not its own
+    /// ([`crate::starts::Starts::filler_track`]).
+    pub filler_track: Vec<Option<Track>>,
     /// Parts numbered from this one are fillers (set when they are built).
     pub filler_parts: u32,
     /// The filler (index in `fillers`) of each filler part, from
@@ -377,7 +387,8 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         spliced_trunk,
         somas,
         filler,
-    } = crate::starts::plan(&m, &branches, &tracks);
+        filler_track,
+    } = crate::starts::plan(&m, &geometry, &branches, &tracks, params);
     // 3. Tubes, in parallel, appended in branch order.
     let jobs: Vec<u32> = (0..branches.len() as u32)
         .filter(|&i| starts[i as usize].is_some())
@@ -391,6 +402,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             first_start: b.attachment == Attachment::Root,
             later_starts: false,
             rings: params.cap_rings,
+            end_rings: params.cap_rings,
         };
         let mut surface = Surface::with_capacity(track.counts.iter().map(|&m| m as usize).sum());
         let anchor = geometry.pos[b.samples[0] as usize];
@@ -507,6 +519,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         owner: Vec::new(),
         tracks,
         fillers,
+        filler_track,
         filler_parts: u32::MAX,
         filler_of_part: Vec::new(),
     })

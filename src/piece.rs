@@ -214,8 +214,10 @@ pub struct Caps {
     pub first_start: bool,
     /// Cap the start of later pieces (false when they will be spliced).
     pub later_starts: bool,
-    /// Rings per cap (see [`tube::cap`]).
+    /// Rings per start cap (see [`tube::cap`]; 0: flat).
     pub rings: u32,
+    /// Rings per end cap.
+    pub end_rings: u32,
 }
 
 /// Builds the tube of one branch into `surface`, starting at track point
@@ -305,8 +307,8 @@ pub fn build_pieces(
         let end_cap = loop {
             let last = rings[rings.len() - 1];
             let mark = surface.mark();
-            let (tris, _) = tube::cap(surface, &last, caps.rings, true);
-            let part = Part::cap(&last, true, cap_height(&last, caps.rings), tris.clone());
+            let (tris, _) = tube::cap(surface, &last, caps.end_rings, true);
+            let part = Part::cap(&last, true, cap_height(&last, caps.end_rings), tris.clone());
             let mut skip: Vec<u32> = part_ids.last().copied().into_iter().collect();
             if rings.len() == 1 {
                 skip.extend(start_part);
@@ -359,7 +361,7 @@ pub fn build_pieces(
             // Spliced later: begin where the contours clear this piece's volume
             // (its round cones and end cap).
             let mut volume = crate::volume::cones(track, piece_start, last.resampled as usize);
-            let h = cap_height(&last, caps.rings);
+            let h = cap_height(&last, caps.end_rings);
             volume.push((last.center, last.center, h, h));
             match crate::volume::first_outside_from(track, next, &volume) {
                 Some(k) => start = k,
@@ -385,6 +387,7 @@ mod tests {
         first_start: true,
         later_starts: true,
         rings: 3,
+        end_rings: 3,
     };
 
     fn build(pts: &[DVec3], radii: &[f64]) -> (Vec<Tube>, crate::mesh::Mesh) {

@@ -703,6 +703,9 @@ impl<'a> Splicer<'a> {
         for t in (first..n).chain(removed.iter().copied()) {
             b.add(&tri_box(self.surface, t));
         }
+        // Grown by a few f32 steps: the test below is on rounded positions.
+        let scale = (0..3).fold(0f64, |m, a| m.max(b.lo[a].abs()).max(b.hi[a].abs()));
+        let b = b.inflated(4.0 * scale * f64::from(f32::EPSILON));
         let mut near: Vec<u32> = Vec::new();
         self.grid.for_each_near(self.surface, &b, |t| near.push(t));
         near.extend(first..n);
@@ -737,13 +740,19 @@ impl<'a> Splicer<'a> {
         if uses.values().any(|&u| u != (1, 1) && u != (0, 0)) {
             return Err("bridge is not manifold with its surroundings");
         }
-        let pos = |t: u32, s: &Surface| s.tris[t as usize].map(|k| s.pos[k as usize].to_array());
+        // At the output's precision: a bridge clear in f64 can cross itself
+        // once rounded to f32 (a FlyWire neuron, in nanometres near 5·10⁵,
+        // has f32 steps of 0.03 and skirt triangles not much larger).
+        let pos = |t: u32, s: &Surface| {
+            s.tris[t as usize].map(|k| s.pos[k as usize].to_array().map(|x| f64::from(x as f32)))
+        };
+        let rounded_box = |t: u32, s: &Surface| Aabb::of(&pos(t, s));
         // Sweep along x: the live neighbours sorted by their boxes' low x, so
         // each bridge triangle visits only those whose x-range can meet its own.
         let mut others: Vec<(Aabb, u32)> = near
             .iter()
             .filter(|&&o| self.surface.alive[o as usize])
-            .map(|&o| (tri_box(self.surface, o), o))
+            .map(|&o| (rounded_box(o, self.surface), o))
             .collect();
         others.sort_unstable_by(|a, b| a.0.lo[0].total_cmp(&b.0.lo[0]).then(a.1.cmp(&b.1)));
         let width = others
@@ -752,7 +761,7 @@ impl<'a> Splicer<'a> {
             .fold(0.0, f64::max);
         for t in first..n {
             let (ft, pt) = (self.surface.tris[t as usize], pos(t, self.surface));
-            let bt = tri_box(self.surface, t);
+            let bt = rounded_box(t, self.surface);
             let start = others.partition_point(|(b, _)| b.lo[0] < bt.lo[0] - width);
             for &(bo, o) in &others[start..] {
                 if bo.lo[0] > bt.hi[0] {

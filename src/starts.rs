@@ -15,7 +15,9 @@
 use glam::DVec3;
 
 use crate::branch::{Attachment, Branch};
+use crate::mesher::Geometry;
 use crate::morphology::Morphology;
+use crate::params::Params;
 use crate::soma::{self, Footprint, Sphere};
 use crate::track::Track;
 use crate::volume::{Cone, ConeIndex};
@@ -45,6 +47,9 @@ pub struct Starts {
     /// Per branch, the track points `from..to` of its filler, if it gets one
     /// ([`crate::filler`]), and the volume it would add, estimated.
     pub filler: Vec<Option<(usize, usize, f64)>>,
+    /// Per branch, the track its filler is built from when it is not the
+    /// branch's own: a trunk's first round cone, straight ([`trunk_filler`]).
+    pub filler_track: Vec<Option<Track>>,
 }
 
 /// A trunk must leave the sphere at least this steeply (cosine between its
@@ -53,18 +58,30 @@ pub struct Starts {
 const MIN_TRUNK_STEEPNESS: f64 = 0.25;
 
 /// Decides every branch's start (see the module documentation).
-pub fn plan(m: &Morphology, branches: &[Branch], tracks: &[Track]) -> Starts {
+pub fn plan(
+    m: &Morphology,
+    geometry: &Geometry,
+    branches: &[Branch],
+    tracks: &[Track],
+    params: &Params,
+) -> Starts {
     let index = ConeIndex::new(tracks);
     let mut out = Starts {
         start: vec![Some(0); branches.len()],
         spliced_trunk: vec![None; branches.len()],
         somas: Vec::new(),
         filler: vec![None; branches.len()],
+        filler_track: vec![None; branches.len()],
     };
     let soma = m.soma_mask();
     for (ti, tree) in m.trees().iter().enumerate() {
         if let Some(s) = &tree.soma {
-            plan_soma(&mut out, ti as u32, s, branches, tracks, &index);
+            let trunk = Trunk {
+                geometry,
+                params,
+                index: &index,
+            };
+            plan_soma(&mut out, ti as u32, s, branches, tracks, &trunk);
         }
     }
     for (i, b) in branches.iter().enumerate() {
@@ -92,14 +109,22 @@ pub fn plan(m: &Morphology, branches: &[Branch], tracks: &[Track]) -> Starts {
     out
 }
 
+/// What planning a soma's trunks reads besides the tracks.
+struct Trunk<'a> {
+    geometry: &'a Geometry,
+    params: &'a Params,
+    index: &'a ConeIndex,
+}
+
 fn plan_soma(
     out: &mut Starts,
     tree: u32,
     s: &crate::morphology::Soma,
     branches: &[Branch],
     tracks: &[Track],
-    index: &ConeIndex,
+    with: &Trunk,
 ) {
+    let index = with.index;
     let center = DVec3::from_array(s.center);
     // Trunks start clear of the largest sphere the soma may be meshed with.
     let coarsest = soma::spacing(s.radius, Some(f64::INFINITY)) / s.radius;
@@ -133,6 +158,11 @@ fn plan_soma(
         first_radius[i] = tracks[i].radii[out.start[i].unwrap_or(0)];
     }
     order.sort_by(|&a, &b| first_radius[b].total_cmp(&first_radius[a]).then(a.cmp(&b)));
+    // A trunk's filler starts where its first cone leaves the sphere by
+    // more than a polygon's enlargement (at most 1.9 %, a 12-gon's): before
+    // the hull's tangent circle the cone's sections lie on the sphere, and a
+    // filler from there would graze it all round.
+    let filler_ball: Cone = (center, center, 1.02 * sphere.radius, 1.02 * sphere.radius);
     let mut kept: Vec<(usize, Footprint)> = Vec::new();
     let mut placed: Vec<usize> = Vec::new();
     for &i in &order {
@@ -148,6 +178,7 @@ fn plan_soma(
                 .all(|(_, f)| !soma::footprints_meet(f, &print, margin))
         {
             kept.push((i, print));
+            set_trunk_filler(out, i, &branches[i], t, with, &[filler_ball]);
         } else {
             // Clear of the sphere and of every trunk placed so far.
             let reach =
@@ -158,6 +189,9 @@ fn plan_soma(
             cones.push(ball[0]);
             out.start[i] = crate::volume::first_outside_from(t, k, &cones);
             out.spliced_trunk[i] = Some(center + sphere.radius * print.dir);
+            cones.pop();
+            cones.push(filler_ball);
+            set_trunk_filler(out, i, &branches[i], t, with, &cones);
         }
         placed.push(i);
     }
@@ -168,6 +202,65 @@ fn plan_soma(
         label: s.samples[0],
         trunks: kept.iter().map(|(i, _)| *i as u32).collect(),
     });
+}
+
+/// A trunk's filler: its first round cone, from the soma sample to its first
+/// neurite sample, as a straight track from where it leaves `cones` (the
+/// sphere, and for a spliced trunk the trunks placed before it) up to the
+/// trunk's tube start (or the sample, if the tube starts beyond it).
+///
+/// Where a trunk flares out of the soma (a soma of radius 9 and a first
+/// sample of radius 0.3 thirty units out) that cone is a large share of the
+/// union of round cones, and neither the soma's radial bridge nor a spliced
+/// trunk's covers it: the bridge meets the sphere under the start contour,
+/// while the cone's flank is tangent to the sphere much farther out. Why not
+/// the trunk's own contours there: the tube's tangents follow the curve at
+/// the scale of its radius, and near the soma that radius is the soma's, so
+/// its first discs tilt with the bends beyond the first sample and stand out
+/// of the union (a filler from them added 9 % to a motoneuron's volume).
+fn set_trunk_filler(
+    out: &mut Starts,
+    i: usize,
+    b: &Branch,
+    t: &Track,
+    with: &Trunk,
+    cones: &[Cone],
+) {
+    let &[s0, s1, ..] = b.samples.as_slice() else {
+        return;
+    };
+    let (g, (s0, s1)) = (with.geometry, (s0 as usize, s1 as usize));
+    let (p0, p1) = (g.pos[s0], g.pos[s1]);
+    let length = p0.distance(p1);
+    if length <= 0.0 {
+        return;
+    }
+    let axis = (p1 - p0) / length;
+    let radii = [g.radius[s0], g.radius[s1]];
+    // Sampled like the trunk itself: at the cone's own mean radius the
+    // contours would stand a soma radius apart, and their flat bands cut far
+    // inside the flank where it leaves the sphere.
+    let params = Params {
+        resolution: 0.5 * (radii[0] + radii[1]) / t.edge,
+        ..*with.params
+    };
+    let straight = Track::new(&[p0, p1], &radii, &params, None);
+    // Up to its first contour at or beyond the tube's start, so that its end
+    // lies in the tube. It ends flat there (`mesher::build_fillers`): a dome
+    // would bulge out of a cone that narrows faster than a sphere (by 2.5
+    // units on a motoneuron's trunk of radius 15). Its start dome lies in the
+    // soma sample's sphere, which the union holds.
+    let reach = out.start[i].map_or(length, |k| (t.samples[k].pos - p0).dot(axis));
+    let before = straight
+        .samples
+        .iter()
+        .take_while(|p| (p.pos - p0).dot(axis) < reach)
+        .count();
+    let end = (before + 1).min(straight.samples.len());
+    if let Some(span) = crate::filler::span(&straight, Some(end), cones) {
+        out.filler[i] = Some(span);
+        out.filler_track[i] = Some(straight);
+    }
 }
 
 /// The contour vertices of track point `k`, as the tube will place them.
