@@ -13,7 +13,10 @@ fn main() {
     let starts = neuromesh::starts::plan(&m, &geometry, &branches, &tracks, &params);
     for plan in &starts.somas {
         let c = plan.sphere.center;
-        println!("soma r {:.3} spacing {:.3}", plan.sphere.radius, plan.spacing);
+        println!(
+            "soma r {:.3} spacing {:.3}",
+            plan.sphere.radius, plan.spacing
+        );
         for (i, b) in branches.iter().enumerate() {
             if !matches!(b.attachment, neuromesh::branch::Attachment::Soma { .. }) {
                 continue;
@@ -36,7 +39,9 @@ fn main() {
                     t.samples[k].pos.distance(c),
                     t.radii[k],
                     t.counts[k],
-                    t.samples[k].tangent.dot((t.samples[k].pos - c).normalize_or_zero()),
+                    t.samples[k]
+                        .tangent
+                        .dot((t.samples[k].pos - c).normalize_or_zero()),
                     starts.filler[i],
                 ),
                 None => println!("  line {:6} hidden", m.lines()[s1]),

@@ -15,8 +15,6 @@
 //! far apart in the tree passing through each other in space), by the tree path
 //! between the two triangles' samples: see [`is_skeleton_overlap`].
 
-use std::collections::HashMap;
-
 use crate::bvh::{Aabb, Bvh};
 use crate::geom;
 use crate::measures::SkeletonMeasures;
@@ -414,19 +412,15 @@ fn topology(mesh: &MeshView<'_>, r: &mut MeshReport) {
     }
 
     // Components by shared vertices, with signed volume per component.
-    let mut uf = UnionFind::new(nv);
-    for f in mesh.faces {
-        uf.union(f[0], f[1]);
-        uf.union(f[1], f[2]);
-    }
-    let mut comp_volume: HashMap<u32, f64> = HashMap::new();
-    for (fi, f) in mesh.faces.iter().enumerate() {
-        let root = uf.find(f[0]);
+    let component = face_components(mesh);
+    let mut comp_volume =
+        vec![0.0f64; component.iter().map(|&c| c as usize + 1).max().unwrap_or(0)];
+    for (fi, &k) in component.iter().enumerate() {
         let [a, b, c] = mesh.triangle(fi, origin);
-        *comp_volume.entry(root).or_insert(0.0) += crate::mesh::dot(a, cross(b, c)) / 6.0;
+        comp_volume[k as usize] += crate::mesh::dot(a, cross(b, c)) / 6.0;
     }
     r.components = comp_volume.len();
-    r.inward_components = comp_volume.values().filter(|&&v| v < 0.0).count();
+    r.inward_components = comp_volume.iter().filter(|&&v| v < 0.0).count();
     let used_count = nv - r.unreferenced_vertices;
     r.euler_characteristic = used_count as i64 - r.edges as i64 + mesh.faces.len() as i64;
     r.nonmanifold_vertices = nonmanifold_vertices(mesh);
@@ -508,13 +502,18 @@ pub fn face_components(mesh: &MeshView<'_>) -> Vec<u32> {
         uf.union(f[0], f[1]);
         uf.union(f[1], f[2]);
     }
-    let mut number: HashMap<u32, u32> = HashMap::new();
+    // Numbered by first appearance, through a table indexed by root.
+    let mut number = vec![u32::MAX; mesh.vertices.len()];
+    let mut count = 0;
     mesh.faces
         .iter()
         .map(|f| {
-            let root = uf.find(f[0]);
-            let next = number.len() as u32;
-            *number.entry(root).or_insert(next)
+            let root = uf.find(f[0]) as usize;
+            if number[root] == u32::MAX {
+                number[root] = count;
+                count += 1;
+            }
+            number[root]
         })
         .collect()
 }

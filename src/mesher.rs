@@ -302,7 +302,11 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
     let parts = crate::filler::build(
         surface,
         fillers,
-        |b| filler_track[b as usize].as_ref().unwrap_or(&tracks[b as usize]),
+        |b| {
+            filler_track[b as usize]
+                .as_ref()
+                .unwrap_or(&tracks[b as usize])
+        },
         |b| sample_labels(&branches[b as usize]),
         params.cap_rings,
         // A trunk's straight first cone ends flat unless it ends at its

@@ -204,6 +204,13 @@ fn plan_soma(
     });
 }
 
+/// A trunk filler's last contour, inside the tube, is drawn in to this
+/// fraction of its radius. Its last band then meets the tube's at an angle
+/// instead of along it; drawn in further it leaves more of the cone before
+/// the tube's start uncovered (0.8 lost 1 % of a motoneuron's volume, 0.95
+/// 0.4 %, with no union failing on the 48 files either way).
+const TUCK: f64 = 0.95;
+
 /// A trunk's filler: its first round cone, from the soma sample to its first
 /// neurite sample, as a straight track from where it leaves `cones` (the
 /// sphere, and for a spliced trunk the trunks placed before it) up to the
@@ -244,19 +251,27 @@ fn set_trunk_filler(
         resolution: 0.5 * (radii[0] + radii[1]) / t.edge,
         ..*with.params
     };
-    let straight = Track::new(&[p0, p1], &radii, &params, None);
-    // Up to its first contour at or beyond the tube's start, so that its end
-    // lies in the tube. It ends flat there (`mesher::build_fillers`): a dome
-    // would bulge out of a cone that narrows faster than a sphere (by 2.5
-    // units on a motoneuron's trunk of radius 15). Its start dome lies in the
-    // soma sample's sphere, which the union holds.
+    let mut straight = Track::new(&[p0, p1], &radii, &params, None);
+    // Up to its first contour half a step or more beyond the tube's start,
+    // so that its end lies in the tube, drawn in there ([`TUCK`]) and capped
+    // flat (`mesher::build_fillers`). Ending at full radius, its last bands
+    // would run along the tube's own first bands, the same cone drawn by
+    // polygons out of phase: hundreds of grazing crossings (Allen 177300's
+    // overlap pass took 290 ms instead of 70, four rounds of nudges). A dome
+    // there would also bulge out of a cone that narrows faster than a
+    // sphere. Its start dome lies in the soma sample's sphere, which the
+    // union holds.
     let reach = out.start[i].map_or(length, |k| (t.samples[k].pos - p0).dot(axis));
-    let before = straight
-        .samples
-        .iter()
-        .take_while(|p| (p.pos - p0).dot(axis) < reach)
-        .count();
-    let end = (before + 1).min(straight.samples.len());
+    let x = |k: usize| (straight.samples[k].pos - p0).dot(axis);
+    let n = straight.samples.len();
+    let mut last = (0..n).find(|&k| x(k) >= reach).unwrap_or(n - 1);
+    if last > 0 && last + 1 < n && x(last) < reach + 0.5 * (x(last) - x(last - 1)) {
+        last += 1;
+    }
+    if x(last) > reach {
+        straight.radii[last] *= TUCK;
+    }
+    let end = last + 1;
     if let Some(span) = crate::filler::span(&straight, Some(end), cones) {
         out.filler[i] = Some(span);
         out.filler_track[i] = Some(straight);
