@@ -48,7 +48,7 @@ pub struct Starts {
     /// ([`crate::filler`]), and the volume it would add, estimated.
     pub filler: Vec<Option<(usize, usize, f64)>>,
     /// Per branch, the track its filler is built from when it is not the
-    /// branch's own: a trunk's first round cone, straight ([`trunk_filler`]).
+    /// branch's own: a trunk's first round cone, straight (`set_trunk_filler`).
     pub filler_track: Vec<Option<Track>>,
 }
 
