@@ -25,6 +25,16 @@
 //! both; the overlap pass ([`crate::overlap`]) keeps only what lies outside
 //! every other part, which is the volume the start rule left out.
 //!
+//! The same holds where a branch's tube breaks into pieces
+//! ([`crate::piece`]): a piece that would cross itself ends, and the next
+//! starts at the first contour clear of its volume. Where the branch turns
+//! back on itself (a zig-zag of segments shorter than their radius, a
+//! hairpin) the contours in between are its only cover, so the gap gets a
+//! filler too, from past the piece's last ring to the next piece's start
+//! ([`span_from`]; it made up 1.6 % of a von Economo spindle cell's volume
+//! and 1.1 % of a fly larva neuron's). Trunks get theirs from
+//! [`crate::starts`]: their first round cone, straight.
+//!
 //! Only fillers estimated to add [`MIN_GAIN`] of the cell's volume are built,
 //! and only when together they add [`MIN_TOTAL_GAIN`]: each costs a couple
 //! of hundred crossing pairs. Branch points on the soma
@@ -65,30 +75,40 @@ pub const MIN_TOTAL_GAIN: f64 = 0.005;
 /// estimated from the contours' slices. `None` when no contour before the
 /// start reaches out.
 pub fn span(track: &Track, start: Option<usize>, cones: &[Cone]) -> Option<(usize, usize, f64)> {
-    let end = start.unwrap_or(track.samples.len());
-    let outside: Vec<f64> = (0..end)
-        .map(|i| {
-            if i == 0 {
-                0.0
-            } else {
-                fraction_outside(track, i, cones)
-            }
-        })
+    // The branch point's own contour is taken as inside.
+    span_from(track, 1, 0, start.unwrap_or(track.samples.len()), cones)
+}
+
+/// The filler over track points `lo..end` among `cones`: from the contour
+/// before the first with vertices outside them (but not before `floor`) up
+/// to `end`, with the volume outside estimated from the contours' slices.
+/// `None` when none of them reaches out.
+pub fn span_from(
+    track: &Track,
+    lo: usize,
+    floor: usize,
+    end: usize,
+    cones: &[Cone],
+) -> Option<(usize, usize, f64)> {
+    let outside: Vec<f64> = (lo..end)
+        .map(|i| fraction_outside(track, i, cones))
         .collect();
-    let first = outside.iter().position(|&f| f > 0.0)?;
-    let gain = slices(track, first, end, |i| outside[i]);
-    Some((first - 1, end, gain))
+    let first = lo + outside.iter().position(|&f| f > 0.0)?;
+    let gain = slices(track, first, end, |i| outside[i - lo]);
+    Some((first.saturating_sub(1).max(floor), end, gain))
 }
 
 /// Builds the fillers of `spans` into `surface` (closed pieces, each a part
 /// of its own) and returns, per piece, its span's index and its triangles.
+/// `track_of(k)` is the track span `k` runs along, `end_rings(k)` the rings
+/// of its end cap.
 pub fn build<'t>(
     surface: &mut Surface,
     spans: &[(u32, usize, usize)],
-    track_of: impl Fn(u32) -> &'t Track,
+    track_of: impl Fn(usize) -> &'t Track,
     labels: impl Fn(u32) -> Vec<u32>,
     cap_rings: u32,
-    end_rings: impl Fn(u32, usize) -> u32,
+    end_rings: impl Fn(usize) -> u32,
 ) -> Vec<(u32, std::ops::Range<u32>)> {
     let mut parts = Vec::new();
     for (k, &(b, from, end)) in spans.iter().enumerate() {
@@ -96,12 +116,13 @@ pub fn build<'t>(
             first_start: true,
             later_starts: true,
             rings: cap_rings,
-            end_rings: end_rings(b, end),
+            end_rings: end_rings(k),
         };
-        let track = track_of(b).prefix(end);
+        let track = track_of(k).prefix(end);
         // Capped at every start, no piece is spliced: the anchor is unused.
         let anchor = track.samples[0].pos;
-        let (pieces, _) = piece::build_pieces(surface, &track, &labels(b), b, from, anchor, caps);
+        let (pieces, _, _) =
+            piece::build_pieces(surface, &track, &labels(b), b, from, anchor, caps);
         parts.extend(pieces.into_iter().map(|t| (k as u32, t.tris)));
     }
     parts

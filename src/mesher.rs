@@ -295,24 +295,27 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
         tracks,
         fillers,
         filler_track,
+        filler_straight,
         owner,
         filler_of_part,
         ..
     } = stage;
+    let straight = |k: usize| {
+        let b = fillers[k].0 as usize;
+        filler_straight[k]
+            .then(|| filler_track[b].as_ref())
+            .flatten()
+    };
     let parts = crate::filler::build(
         surface,
         fillers,
-        |b| {
-            filler_track[b as usize]
-                .as_ref()
-                .unwrap_or(&tracks[b as usize])
-        },
+        |k| straight(k).unwrap_or(&tracks[fillers[k].0 as usize]),
         |b| sample_labels(&branches[b as usize]),
         params.cap_rings,
         // A trunk's straight first cone ends flat unless it ends at its
         // sample (see `starts::set_trunk_filler`).
-        |b, end| match &filler_track[b as usize] {
-            Some(t) if end < t.samples.len() => 0,
+        |k| match straight(k) {
+            Some(t) if fillers[k].2 < t.samples.len() => 0,
             _ => params.cap_rings,
         },
     );
@@ -360,9 +363,12 @@ pub struct TubeStage {
     /// The fillers to build: branch and its track points `from..to`
     /// ([`crate::filler`]).
     pub fillers: Vec<(u32, usize, usize)>,
-    /// Per branch, the track its filler is built from when not its own
+    /// Per branch, the straight track of its trunk filler, if it has one
     /// ([`crate::starts::Starts::filler_track`]).
     pub filler_track: Vec<Option<Track>>,
+    /// Per filler, whether it runs along that straight track (otherwise
+    /// along its branch's own).
+    pub filler_straight: Vec<bool>,
     /// Parts numbered from this one are fillers (set when they are built).
     pub filler_parts: u32,
     /// The filler (index in `fillers`) of each filler part, from
@@ -412,9 +418,9 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         let anchor = geometry.pos[b.samples[0] as usize];
         let start = starts[id as usize].unwrap_or(0);
         let labels = sample_labels(b);
-        let (tubes, skipped) =
+        let (tubes, skipped, gaps) =
             piece::build_pieces(&mut surface, track, &labels, id, start, anchor, caps);
-        (surface, tubes, skipped)
+        (surface, tubes, skipped, gaps)
     };
     // Room for the whole cell at once: growing by doubling copied the surface
     // several times over (`Surface::append` was 6 % of the Allen 177300
@@ -434,14 +440,16 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     let mut tubes: Vec<Tube> = Vec::new();
     let mut joins: Vec<Join> = Vec::new();
     let mut first_tube: Vec<Option<u32>> = vec![None; branches.len()];
+    let mut gaps: Vec<(u32, (usize, usize, f64))> = Vec::new();
     // In chunks of branches: the per-branch surfaces of one chunk at a time
     // are alive beside the whole one, not those of the whole cell (which
     // doubled the peak memory of a million-sample tree).
     for chunk in jobs.chunks(TUBE_CHUNK) {
-        let built: Vec<(Surface, Vec<Tube>, u32)> = crate::parallel::map(chunk, build_one);
-        for (local, local_tubes, skipped) in built {
+        let built: Vec<(Surface, Vec<Tube>, u32, _)> = crate::parallel::map(chunk, build_one);
+        for ((local, local_tubes, skipped, local_gaps), &id) in built.into_iter().zip(chunk) {
             let (v0, t0) = surface.append(&local);
             stats.contours_skipped += skipped;
+            gaps.extend(local_gaps.into_iter().map(|g| (id, g)));
             for (piece_index, mut t) in local_tubes.into_iter().enumerate() {
                 for r in &mut t.rings {
                     r.first += v0;
@@ -495,24 +503,29 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         .iter()
         .map(|t| crate::volume::slices(t, 0, t.samples.len(), |_| 1.0))
         .sum();
-    let worth = |f: &&(usize, usize, f64)| plausible && f.2 >= crate::filler::MIN_GAIN * cell;
-    let gain: f64 = filler.iter().flatten().filter(worth).map(|f| f.2).sum();
+    let worth = |f: &(usize, usize, f64)| plausible && f.2 >= crate::filler::MIN_GAIN * cell;
+    // Each branch's start filler (along the straight track for a trunk that
+    // has one), then the fillers of the gaps between pieces.
+    let candidates: Vec<(u32, (usize, usize, f64), bool)> = filler
+        .iter()
+        .enumerate()
+        .filter_map(|(b, f)| f.map(|f| (b as u32, f, filler_track[b].is_some())))
+        .chain(gaps.into_iter().map(|(b, f)| (b, f, false)))
+        .filter(|c| worth(&c.1))
+        .collect();
+    let gain: f64 = candidates.iter().map(|c| c.1.2).sum();
     // Together they must change the volume by a visible share: each costs
     // crossing pairs, and a cell they would change by half a percent meshes
     // twice as fast without them.
-    let fillers = if gain >= crate::filler::MIN_TOTAL_GAIN * cell {
-        filler
-            .iter()
-            .enumerate()
-            .filter_map(|(b, f)| {
-                f.as_ref()
-                    .filter(worth)
-                    .map(|&(from, to, _)| (b as u32, from, to))
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let (fillers, filler_straight): (Vec<(u32, usize, usize)>, Vec<bool>) =
+        if gain >= crate::filler::MIN_TOTAL_GAIN * cell {
+            candidates
+                .into_iter()
+                .map(|(b, (from, to, _), straight)| ((b, from, to), straight))
+                .unzip()
+        } else {
+            (Vec::new(), Vec::new())
+        };
     Ok(TubeStage {
         surface,
         branches,
@@ -524,6 +537,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         tracks,
         fillers,
         filler_track,
+        filler_straight,
         filler_parts: u32::MAX,
         filler_of_part: Vec::new(),
     })

@@ -221,8 +221,10 @@ pub struct Caps {
 }
 
 /// Builds the tube of one branch into `surface`, starting at track point
-/// `first`, as one or more pieces. Returns the pieces and the number of
-/// skipped contours.
+/// `first`, as one or more pieces. Returns the pieces, the number of
+/// skipped contours, and the fillers the gaps between pieces need (track
+/// points `from..to` and the volume they add, estimated; see
+/// [`crate::filler::span_from`]).
 ///
 /// `anchor` is the point the first piece grows out of (its branch point, for a
 /// secondary); a later piece's anchor is where it split off. A later piece that
@@ -236,7 +238,7 @@ pub fn build_pieces(
     first: usize,
     anchor: DVec3,
     caps: Caps,
-) -> (Vec<Tube>, u32) {
+) -> (Vec<Tube>, u32, Vec<(usize, usize, f64)>) {
     let n = track.samples.len();
     let mut radii: Vec<f64> = track.radii.clone();
     radii.sort_by(f64::total_cmp);
@@ -245,6 +247,7 @@ pub fn build_pieces(
         .max(1e-300);
     let mut tubes = Vec::new();
     let mut skipped = 0u32;
+    let mut gaps = Vec::new();
     let mut start = first.min(n - 1);
     let mut first_piece = true;
     let mut anchor = anchor;
@@ -363,13 +366,32 @@ pub fn build_pieces(
             let mut volume = crate::volume::cones(track, piece_start, last.resampled as usize);
             let h = cap_height(&last, caps.end_rings);
             volume.push((last.center, last.center, h, h));
-            match crate::volume::first_outside_from(track, next, &volume) {
+            let found = crate::volume::first_outside_from(track, next, &volume);
+            // The contours between the pieces that reach out of this one's
+            // volume: where the branch turns back on itself (a zig-zag of
+            // segments shorter than their radius, a hairpin) they are its
+            // only cover, and without a filler most of a segment is lost.
+            // It starts past this piece's last ring, not on it: a filler
+            // sharing a ring with the piece would cross it all along.
+            // Its gain is what lies outside the next piece's first stretch
+            // too (four radii along the track), which covers the gap's end.
+            let after = last.resampled as usize + 1;
+            let end = found.unwrap_or(n);
+            if let Some(k) = found {
+                let reach = track.arc[k] + 4.0 * track.radii[k];
+                let far = k + track.arc[k..].partition_point(|&a| a <= reach);
+                volume.extend(crate::volume::cones(track, k, far));
+            }
+            if let Some(gap) = crate::filler::span_from(track, after, after, end, &volume) {
+                gaps.push(gap);
+            }
+            match found {
                 Some(k) => start = k,
                 None => break,
             }
         }
     }
-    (tubes, skipped)
+    (tubes, skipped, gaps)
 }
 
 /// Height of the dome [`tube::cap`] builds on `ring` (its enlarged radius).
@@ -394,7 +416,7 @@ mod tests {
         let track = Track::new(pts, radii, &Params::DEFAULT, None);
         let mut s = Surface::default();
         let labels: Vec<u32> = (0..pts.len() as u32).collect();
-        let (tubes, _) = build_pieces(&mut s, &track, &labels, 0, 0, pts[0], CAPS);
+        let (tubes, _, _) = build_pieces(&mut s, &track, &labels, 0, 0, pts[0], CAPS);
         (tubes, s.into_mesh(BuildStats::default()))
     }
 
