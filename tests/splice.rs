@@ -301,7 +301,7 @@ fn a_thick_child_on_a_coarse_thick_parent_keeps_its_volume() {
 /// A neurite that turns back alongside itself, 2 apart at radius 1.2: its
 /// tube ends where it would cross its first leg, and the return leg never
 /// clears that leg's volume, so no later piece starts. Only the gap filler
-/// covers the return leg: without it the mesh was 47 % below the union of
+/// covers the return leg: without it (at 9e072b1) the mesh was 47 % below the union of
 /// round cones, with it 15.5 % (the turn's skipped contours are the rest).
 #[test]
 fn a_hairpin_keeps_its_return_leg() {
