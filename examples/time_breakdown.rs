@@ -27,7 +27,8 @@ fn main() {
             lap(3, &mut best);
             neuromesh::mesher::build_fillers(&mut stage, &p);
             lap(4, &mut best);
-            let mesh = neuromesh::mesher::finish(stage);
+            let mesh = neuromesh::mesher::finish(stage, || neuromesh::mesher::construct(&m, &p))
+                .expect("mesh");
             lap(5, &mut best);
             tris = mesh.faces.len();
         }

@@ -34,9 +34,12 @@ impl Aabb {
     /// Grows the box to hold `p`.
     #[inline]
     pub fn add_point(&mut self, p: [f64; 3]) {
+        // Plain comparisons compile to one min or max instruction each
+        // (coordinates are never NaN); `f64::min` adds NaN handling, which
+        // made box building a visible share of the overlap pass.
         for a in 0..3 {
-            self.lo[a] = self.lo[a].min(p[a]);
-            self.hi[a] = self.hi[a].max(p[a]);
+            self.lo[a] = if p[a] < self.lo[a] { p[a] } else { self.lo[a] };
+            self.hi[a] = if p[a] > self.hi[a] { p[a] } else { self.hi[a] };
         }
     }
 
@@ -44,8 +47,16 @@ impl Aabb {
     #[inline]
     pub fn add(&mut self, o: &Aabb) {
         for a in 0..3 {
-            self.lo[a] = self.lo[a].min(o.lo[a]);
-            self.hi[a] = self.hi[a].max(o.hi[a]);
+            self.lo[a] = if o.lo[a] < self.lo[a] {
+                o.lo[a]
+            } else {
+                self.lo[a]
+            };
+            self.hi[a] = if o.hi[a] > self.hi[a] {
+                o.hi[a]
+            } else {
+                self.hi[a]
+            };
         }
     }
 
@@ -148,6 +159,11 @@ impl Bvh {
             start: 0,
             count: boxes.len() as u32,
         });
+        // Centres once, side by side: every level reads them all.
+        let centre: Vec<[f64; 3]> = boxes
+            .iter()
+            .map(|b| [b.center(0), b.center(1), b.center(2)])
+            .collect();
         let mut stack = vec![0usize];
         while let Some(ni) = stack.pop() {
             let (start, count) = (nodes[ni].start as usize, nodes[ni].count as usize);
@@ -155,9 +171,8 @@ impl Bvh {
             let mut bounds = Aabb::EMPTY;
             let mut centers = Aabb::EMPTY;
             for &i in slice.iter() {
-                let b = &boxes[i as usize];
-                bounds.add(b);
-                centers.add_point([b.center(0), b.center(1), b.center(2)]);
+                bounds.add(&boxes[i as usize]);
+                centers.add_point(centre[i as usize]);
             }
             nodes[ni].bounds = bounds;
             if count <= LEAF_SIZE {
@@ -177,9 +192,7 @@ impl Bvh {
             };
             let mid = count / 2;
             slice.select_nth_unstable_by(mid, |&a, &b| {
-                boxes[a as usize]
-                    .center(axis)
-                    .total_cmp(&boxes[b as usize].center(axis))
+                centre[a as usize][axis].total_cmp(&centre[b as usize][axis])
             });
             let left = nodes.len();
             nodes.push(Node {

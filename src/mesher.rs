@@ -49,27 +49,28 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
-    Ok(finish(construct(morphology, params)?))
+    finish(construct(morphology, params)?, || {
+        construct(morphology, params)
+    })
 }
 
 /// Step 6 on a constructed stage: the mesh, with the overlaps resolved and
 /// the fillers united with the rest (or dropped; see [`crate::filler`]).
-pub fn finish(stage: TubeStage) -> Mesh {
-    let TubeStage {
-        surface,
-        stats,
-        owner,
-        filler_parts,
-        filler_of_part,
-        ..
-    } = stage;
-    let (mut mesh, face_owner) = surface.into_mesh_with(stats, owner);
+/// `rebuild` constructs the same stage again; it is called only when the
+/// fillers leave crossings the pass cannot cut, so the first try works on the
+/// mesh itself rather than on a copy kept for that rare case.
+///
+/// # Errors
+/// What `rebuild` returns.
+pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result<Mesh> {
+    let (mesh, face_owner, filler_parts, filler_of_part) = stage.into_mesh();
     let has_fillers = face_owner
         .last()
         .is_some_and(|&o| is_filler(o, filler_parts));
     if !has_fillers {
+        let mut mesh = mesh;
         resolve_overlaps(&mut mesh, &face_owner);
-        return mesh;
+        return Ok(mesh);
     }
     // The fillers add crossings; should the pass fail to cut some, the cell
     // is meshed again without the filler pieces in them, and should that
@@ -79,9 +80,9 @@ pub fn finish(stage: TubeStage) -> Mesh {
         first_part: filler_parts,
         of_part: &filler_of_part,
     };
-    let (united, resolved) = fillers.unite_without(&mesh, &face_owner, |_| false);
+    let (united, resolved) = fillers.unite_without(mesh, &face_owner, |_| false);
     if resolved.outcome.pairs_left == 0 {
-        return united;
+        return Ok(united);
     }
     let stuck: Vec<u32> = resolved
         .left_parts
@@ -89,16 +90,18 @@ pub fn finish(stage: TubeStage) -> Mesh {
         .copied()
         .filter(|&o| fillers.has(o))
         .collect();
+    let (mesh, face_owner, ..) = rebuild()?.into_mesh();
     if !stuck.is_empty() && stuck.len() < filler_of_part.len() {
-        let (fewer, resolved) =
-            fillers.unite_without(&mesh, &face_owner, |o| stuck.binary_search(&o).is_ok());
+        let (fewer, resolved) = fillers.unite_without(mesh.clone(), &face_owner, |o| {
+            stuck.binary_search(&o).is_ok()
+        });
         if resolved.outcome.pairs_left == 0 {
-            return fewer;
+            return Ok(fewer);
         }
     }
-    fillers
-        .unite_without(&mesh, &face_owner, |o| fillers.has(o))
-        .0
+    Ok(fillers
+        .unite_without(mesh, &face_owner, |o| fillers.has(o))
+        .0)
 }
 
 /// The fillers' parts of a mesh: parts from `first_part` on, each of the
@@ -121,11 +124,10 @@ impl Fillers<'_> {
     /// [`drop_shells`] names. `stats.fillers` counts the fillers kept.
     fn unite_without(
         &self,
-        mesh: &Mesh,
+        mut out: Mesh,
         face_owner: &[u32],
         dropped: impl Fn(u32) -> bool,
     ) -> (Mesh, crate::overlap::Resolved) {
-        let mut out = mesh.clone();
         let gone = |o: u32| self.has(o) && dropped(o);
         let owner: Vec<u32> = face_owner.iter().copied().filter(|&o| !gone(o)).collect();
         if owner.len() < face_owner.len() {
@@ -190,8 +192,12 @@ fn is_filler(owner: u32, filler_parts: u32) -> bool {
     owner != crate::overlap::NO_OWNER && owner >= filler_parts
 }
 
-/// Steps 1 to 5: tubes, somas and junctions, before overlaps are resolved.
-fn construct(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
+/// Steps 1 to 5: tubes, somas, junctions and fillers, before overlaps are
+/// resolved.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn construct(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
     let mut stage = build_tubes(morphology, params)?;
     build_somas(&mut stage);
     splice_all(&mut stage, params);
@@ -374,6 +380,15 @@ pub struct TubeStage {
     /// The filler (index in `fillers`) of each filler part, from
     /// `filler_parts` on: a filler is one part per tube piece.
     pub filler_of_part: Vec<u32>,
+}
+
+impl TubeStage {
+    /// The surface as a mesh, with the part of each face, the first filler
+    /// part and the filler of each filler part.
+    fn into_mesh(self) -> (Mesh, Vec<u32>, u32, Vec<u32>) {
+        let (mesh, face_owner) = self.surface.into_mesh_with(self.stats, self.owner);
+        (mesh, face_owner, self.filler_parts, self.filler_of_part)
+    }
 }
 
 /// Steps 1 to 3 of the pipeline: branches, tracks, first contours and tubes.

@@ -503,6 +503,8 @@ fn union(
         }
     };
     let mut alive = vec![true; faces.len()];
+    // Verdicts of the patches' sample faces, kept across the retries.
+    let mut known: FastMap<u32, bool> = FastMap::default();
     loop {
         if !ok.contains(&true) {
             faces.truncate(first_piece);
@@ -537,6 +539,7 @@ fn union(
             &all_pos[..n_old as usize],
             runs,
             bvh,
+            &mut known,
         );
         let kept: Vec<bool> = (0..faces.len())
             .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
@@ -757,7 +760,8 @@ fn patches(
 
 /// Whether each patch lies outside every other part: the winding number of
 /// the original surface without the face a sample point lies on, at that
-/// point, by a vote of three rays.
+/// point, by a vote of three rays. `known` holds the verdicts of sample faces
+/// already cast (by an earlier try of the same round) and gains the new ones.
 #[allow(clippy::too_many_arguments)]
 fn classify(
     faces: &[[u32; 3]],
@@ -769,6 +773,7 @@ fn classify(
     old_pos: &[P3],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
+    known: &mut FastMap<u32, bool>,
 ) -> Vec<bool> {
     let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
     // The largest face of each patch: its centroid is far from the cuts.
@@ -789,10 +794,16 @@ fn classify(
     for r in runs {
         bounds.add(&r.1);
     }
-    crate::parallel::map(&best, |&(_, f)| {
-        if f == u32::MAX {
-            return false; // a patch of dead faces only
-        }
+    // Only the patches sampled at a face not seen before cast rays: a face's
+    // verdict depends on the old surface only, which no retry changes.
+    let mut fresh: Vec<u32> = best
+        .iter()
+        .map(|b| b.1)
+        .filter(|f| *f != u32::MAX && !known.contains_key(f))
+        .collect();
+    fresh.sort_unstable();
+    fresh.dedup();
+    let verdicts = crate::parallel::map(&fresh, |&f| {
         let t = faces[f as usize].map(|k| all_pos[k as usize]);
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
@@ -815,7 +826,12 @@ fn classify(
             }
         }
         votes[1] >= 2
-    })
+    });
+    known.extend(fresh.into_iter().zip(verdicts));
+    best.iter()
+        // A patch of dead faces only is never kept.
+        .map(|b| b.1 != u32::MAX && known[&b.1])
+        .collect()
 }
 
 /// Ray directions for the vote: fixed, in general position (no axis, no
