@@ -62,9 +62,20 @@ pub fn first_outside_from(
 pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone]) -> f64 {
     let s = &track.samples[i];
     let m = track.counts[i];
-    let outside = crate::contour::ring(s.pos, s.tangent, track.frames[i], track.radii[i], m)
+    let r = track.radii[i];
+    // A cone holds a point of the contour only if its axis comes within its
+    // larger radius plus the contour's of the centre: the others are left
+    // out once, not once per vertex.
+    let reach: Vec<Cone> = cones
+        .iter()
+        .copied()
+        .filter(|&(a, b, ra, rb)| {
+            point_segment_distance_sq(s.pos, a, b) <= (ra.max(rb) + r).powi(2)
+        })
+        .collect();
+    let outside = crate::contour::ring(s.pos, s.tangent, track.frames[i], r, m)
         .filter(|&p| {
-            !cones
+            !reach
                 .iter()
                 .any(|&(a, b, ra, rb)| inside_cone(p, a, b, ra, rb, 0.0))
         })
