@@ -167,6 +167,9 @@ impl Guard {
     fn collides(&mut self, surface: &Surface, new: &Part, skip: &[u32]) -> bool {
         self.epoch += 1;
         let epoch = self.epoch;
+        // The new part's triangles and boxes, once for all the parts it is
+        // compared with (computed when the first comparison needs them).
+        let mut mine: Option<Band> = None;
         for c in self.cells(new) {
             let Some(ids) = self.grid.get(&c) else {
                 continue;
@@ -185,7 +188,8 @@ impl Guard {
                 if geom::segment_distance(a, b, c2, d2) > r + r2 {
                     continue;
                 }
-                if triangles_meet(surface, new.tris.clone(), old.tris.clone()) {
+                let mine = mine.get_or_insert_with(|| Band::new(surface, new.tris.clone()));
+                if mine.meets(surface, old.tris.clone()) {
                     return true;
                 }
             }
@@ -194,16 +198,43 @@ impl Guard {
     }
 }
 
-fn triangles_meet(surface: &Surface, xs: Range<u32>, ys: Range<u32>) -> bool {
-    let tri = |t: u32| surface.tris[t as usize].map(|k| surface.pos[k as usize].to_array());
-    xs.clone().any(|x| {
-        let tx = tri(x);
-        let bx = crate::bvh::Aabb::of(&tx);
-        ys.clone().any(|y| {
-            let ty = tri(y);
-            bx.overlaps(&crate::bvh::Aabb::of(&ty)) && geom::triangles_intersect(tx, ty)
+/// A part's triangles with their boxes, and the box of them all.
+struct Band {
+    tris: Vec<([[f64; 3]; 3], crate::bvh::Aabb)>,
+    bounds: crate::bvh::Aabb,
+}
+
+impl Band {
+    fn new(surface: &Surface, tris: Range<u32>) -> Band {
+        let tris: Vec<_> = tris
+            .map(|t| {
+                let t = tri_at(surface, t);
+                (t, crate::bvh::Aabb::of(&t))
+            })
+            .collect();
+        let mut bounds = crate::bvh::Aabb::EMPTY;
+        for (_, b) in &tris {
+            bounds.add(b);
+        }
+        Band { tris, bounds }
+    }
+
+    /// Whether any of triangles `ys` intersects one of the band's.
+    fn meets(&self, surface: &Surface, ys: Range<u32>) -> bool {
+        ys.into_iter().any(|y| {
+            let ty = tri_at(surface, y);
+            let by = crate::bvh::Aabb::of(&ty);
+            by.overlaps(&self.bounds)
+                && self
+                    .tris
+                    .iter()
+                    .any(|(tx, bx)| bx.overlaps(&by) && geom::triangles_intersect(*tx, ty))
         })
-    })
+    }
+}
+
+fn tri_at(surface: &Surface, t: u32) -> [[f64; 3]; 3] {
+    surface.tris[t as usize].map(|k| surface.pos[k as usize].to_array())
 }
 
 /// How to close a piece's ends.
