@@ -84,19 +84,31 @@ pub fn plan(
             plan_soma(&mut out, ti as u32, s, branches, tracks, &trunk);
         }
     }
+    // A secondary is compared with the earlier branches that keep a start:
+    // they are added to this index as the loop passes them, so a query never
+    // wades through the cones of branches it would reject (with radius codes
+    // in place of radii, every cone reaches every query, and filtering the
+    // whole index per branch made the planning quadratic).
+    let mut earlier = ConeIndex::empty_for(tracks);
+    let mut added = 0;
     for (i, b) in branches.iter().enumerate() {
         let Attachment::Secondary { parent, at } = b.attachment else {
             continue;
         };
+        // Starts before `i` are final: trunks were planned above, and each
+        // secondary is planned at its turn.
+        for j in added..i {
+            if out.start[j].is_some() {
+                earlier.add(j as u32, &tracks[j]);
+            }
+        }
+        added = i;
         let t = &tracks[i];
         let tp = &tracks[parent as usize];
         let rp = tp.radii[tp.originals[at as usize]];
         // Far enough for a secondary leaving at 20° to clear a primary.
         let reach = 8.0 * (rp + t.radii.iter().take(8).copied().fold(0.0, f64::max));
-        let start = &out.start;
-        let cones = index.near(tracks, t.samples[0].pos, reach, |other| {
-            (other as usize) < i && start[other as usize].is_some()
-        });
+        let cones = earlier.near(tracks, t.samples[0].pos, reach, |_| true);
         out.start[i] = crate::volume::first_outside(t, &cones);
         if !soma[b.samples[0] as usize] {
             // The branch point's own sphere is part of the cell's volume too.

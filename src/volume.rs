@@ -163,6 +163,16 @@ pub struct ConeIndex {
 impl ConeIndex {
     /// Indexes the segments of all `tracks`.
     pub fn new(tracks: &[Track]) -> ConeIndex {
+        let mut index = ConeIndex::empty_for(tracks);
+        for (b, t) in tracks.iter().enumerate() {
+            index.add(b as u32, t);
+        }
+        index
+    }
+
+    /// An index with no cones yet, its cells sized for `tracks` (8 times
+    /// their median radius), to which tracks are added one by one.
+    pub fn empty_for(tracks: &[Track]) -> ConeIndex {
         let mut sizes: Vec<f64> = tracks
             .iter()
             .flat_map(|t| t.radii.iter().step_by(1 + t.radii.len() / 64).copied())
@@ -174,32 +184,35 @@ impl ConeIndex {
                 .copied()
                 .unwrap_or(1.0)
                 .max(1e-300);
-        let mut grid: FastMap<[i64; 3], Vec<(u32, u32)>> = FastMap::default();
-        let mut large = Vec::new();
-        for (b, t) in tracks.iter().enumerate() {
-            for i in 0..t.samples.len().saturating_sub(1).max(1) {
-                let j = (i + 1).min(t.samples.len() - 1);
-                let r = t.radii[i].max(t.radii[j]);
-                let (p, q) = (t.samples[i].pos, t.samples[j].pos);
-                let lo = ((p.min(q) - DVec3::splat(r)) / cell).floor().as_i64vec3();
-                let hi = ((p.max(q) + DVec3::splat(r)) / cell).floor().as_i64vec3();
-                let n = (hi - lo + 1).as_dvec3();
-                if n.x * n.y * n.z > 512.0 {
-                    large.push((b as u32, i as u32));
-                    continue;
-                }
-                for x in lo.x..=hi.x {
-                    for y in lo.y..=hi.y {
-                        for z in lo.z..=hi.z {
-                            grid.entry([x, y, z])
-                                .or_default()
-                                .push((b as u32, i as u32));
-                        }
+        ConeIndex {
+            cell,
+            grid: FastMap::default(),
+            large: Vec::new(),
+        }
+    }
+
+    /// Adds the segments of `t`, the track of branch `b`.
+    pub fn add(&mut self, b: u32, t: &Track) {
+        let cell = self.cell;
+        for i in 0..t.samples.len().saturating_sub(1).max(1) {
+            let j = (i + 1).min(t.samples.len() - 1);
+            let r = t.radii[i].max(t.radii[j]);
+            let (p, q) = (t.samples[i].pos, t.samples[j].pos);
+            let lo = ((p.min(q) - DVec3::splat(r)) / cell).floor().as_i64vec3();
+            let hi = ((p.max(q) + DVec3::splat(r)) / cell).floor().as_i64vec3();
+            let n = (hi - lo + 1).as_dvec3();
+            if n.x * n.y * n.z > 512.0 {
+                self.large.push((b, i as u32));
+                continue;
+            }
+            for x in lo.x..=hi.x {
+                for y in lo.y..=hi.y {
+                    for z in lo.z..=hi.z {
+                        self.grid.entry([x, y, z]).or_default().push((b, i as u32));
                     }
                 }
             }
         }
-        ConeIndex { cell, grid, large }
     }
 
     /// The cones of branches accepted by `keep` that come within `reach` of `p`.
