@@ -260,7 +260,8 @@ impl Bvh {
         }
     }
 
-    /// Calls `f` with every item whose box the ray segment can meet.
+    /// Calls `f` with every item whose box the ray segment can meet (each
+    /// item's own box is tested: an item can be a run of many triangles).
     pub fn for_each_on_ray(
         &self,
         origin: [f64; 3],
@@ -283,7 +284,9 @@ impl Bvh {
             if node.count > 0 {
                 let s = node.start as usize;
                 for &i in &self.items[s..s + node.count as usize] {
-                    f(i);
+                    if self.boxes[i as usize].hit_by_ray(origin, inv, t_max) {
+                        f(i);
+                    }
                 }
             } else if top + 2 <= stack.len() {
                 stack[top] = node.start;
