@@ -90,6 +90,8 @@ pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> 
         .copied()
         .filter(|&o| fillers.has(o))
         .collect();
+    // Construction is deterministic: the rebuilt mesh numbers its faces and
+    // parts as the first did, so `stuck` and `fillers` still name them.
     let (mesh, face_owner, ..) = rebuild()?.into_mesh();
     if !stuck.is_empty() && stuck.len() < filler_of_part.len() {
         let (fewer, resolved) = fillers.unite_without(mesh.clone(), &face_owner, |o| {
