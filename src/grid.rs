@@ -235,7 +235,7 @@ impl TriangleGrid {
             if !accept(t) {
                 return;
             }
-            let tri = surface.tris[t as usize].map(|k| surface.pos[k as usize].to_array());
+            let tri = surface.corners(t);
             if let Some(s) = crate::geom::ray_triangle(origin.to_array(), dir.to_array(), tri)
                 && s <= max
                 && best.is_none_or(|(_, b)| s < b)
@@ -296,8 +296,7 @@ fn occupied_cells(level: &Level, lo: [i64; 3], hi: [i64; 3], out: &mut Vec<[i64;
 
 /// Box of triangle `t`.
 pub fn tri_box(surface: &Surface, t: u32) -> Aabb {
-    let f = surface.tris[t as usize];
-    Aabb::of(&f.map(|k| surface.pos[k as usize].to_array()))
+    Aabb::of(&surface.corners(t))
 }
 
 fn extent(b: &Aabb) -> f64 {

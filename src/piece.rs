@@ -208,7 +208,7 @@ impl Band {
     fn new(surface: &Surface, tris: Range<u32>) -> Band {
         let tris: Vec<_> = tris
             .map(|t| {
-                let t = tri_at(surface, t);
+                let t = surface.corners(t);
                 (t, crate::bvh::Aabb::of(&t))
             })
             .collect();
@@ -222,7 +222,7 @@ impl Band {
     /// Whether any of triangles `ys` intersects one of the band's.
     fn meets(&self, surface: &Surface, ys: Range<u32>) -> bool {
         ys.into_iter().any(|y| {
-            let ty = tri_at(surface, y);
+            let ty = surface.corners(y);
             let by = crate::bvh::Aabb::of(&ty);
             by.overlaps(&self.bounds)
                 && self
@@ -231,10 +231,6 @@ impl Band {
                     .any(|(tx, bx)| bx.overlaps(&by) && geom::triangles_intersect(*tx, ty))
         })
     }
-}
-
-fn tri_at(surface: &Surface, t: u32) -> [[f64; 3]; 3] {
-    surface.tris[t as usize].map(|k| surface.pos[k as usize].to_array())
 }
 
 /// How to close a piece's ends.

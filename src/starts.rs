@@ -65,7 +65,9 @@ pub fn plan(
     tracks: &[Track],
     params: &Params,
 ) -> Starts {
-    let index = ConeIndex::new(tracks);
+    // Cells sized once for the whole cell; each use fills its own copy with
+    // just the branches its queries may return.
+    let empty = ConeIndex::empty_for(tracks);
     let mut out = Starts {
         start: vec![Some(0); branches.len()],
         spliced_trunk: vec![None; branches.len()],
@@ -79,7 +81,7 @@ pub fn plan(
             let trunk = Trunk {
                 geometry,
                 params,
-                index: &index,
+                empty: &empty,
             };
             plan_soma(&mut out, ti as u32, s, branches, tracks, &trunk);
         }
@@ -89,7 +91,7 @@ pub fn plan(
     // wades through the cones of branches it would reject (with radius codes
     // in place of radii, every cone reaches every query, and filtering the
     // whole index per branch made the planning quadratic).
-    let mut earlier = ConeIndex::empty_for(tracks);
+    let mut earlier = empty.clone();
     let mut added = 0;
     for (i, b) in branches.iter().enumerate() {
         let Attachment::Secondary { parent, at } = b.attachment else {
@@ -108,7 +110,7 @@ pub fn plan(
         let rp = tp.radii[tp.originals[at as usize]];
         // Far enough for a secondary leaving at 20° to clear a primary.
         let reach = 8.0 * (rp + t.radii.iter().take(8).copied().fold(0.0, f64::max));
-        let cones = earlier.near(tracks, t.samples[0].pos, reach, |_| true);
+        let cones = earlier.near(tracks, t.samples[0].pos, reach);
         out.start[i] = crate::volume::first_outside(t, &cones);
         if !soma[b.samples[0] as usize] {
             // The branch point's own sphere is part of the cell's volume too.
@@ -125,7 +127,8 @@ pub fn plan(
 struct Trunk<'a> {
     geometry: &'a Geometry,
     params: &'a Params,
-    index: &'a ConeIndex,
+    /// An index with no cones, its cells sized for the whole cell.
+    empty: &'a ConeIndex,
 }
 
 fn plan_soma(
@@ -136,7 +139,8 @@ fn plan_soma(
     tracks: &[Track],
     with: &Trunk,
 ) {
-    let index = with.index;
+    // The trunks placed so far, which a spliced trunk must clear.
+    let mut placed_index = with.empty.clone();
     let center = DVec3::from_array(s.center);
     // Trunks start clear of the largest sphere the soma may be meshed with.
     let coarsest = soma::spacing(s.radius, Some(f64::INFINITY)) / s.radius;
@@ -176,7 +180,6 @@ fn plan_soma(
     // filler from there would graze it all round.
     let filler_ball: Cone = (center, center, 1.02 * sphere.radius, 1.02 * sphere.radius);
     let mut kept: Vec<(usize, Footprint)> = Vec::new();
-    let mut placed: Vec<usize> = Vec::new();
     for &i in &order {
         let t = &tracks[i];
         let k = out.start[i].unwrap_or(0);
@@ -195,9 +198,7 @@ fn plan_soma(
             // Clear of the sphere and of every trunk placed so far.
             let reach =
                 8.0 * (first_radius[i] + t.radii.iter().take(8).copied().fold(0.0, f64::max));
-            let mut cones = index.near(tracks, t.samples[k].pos, reach + s.radius, |b| {
-                placed.contains(&(b as usize))
-            });
+            let mut cones = placed_index.near(tracks, t.samples[k].pos, reach + s.radius);
             cones.push(ball[0]);
             out.start[i] = crate::volume::first_outside_from(t, k, &cones);
             out.spliced_trunk[i] = Some(center + sphere.radius * print.dir);
@@ -205,7 +206,7 @@ fn plan_soma(
             cones.push(filler_ball);
             set_trunk_filler(out, i, &branches[i], t, with, &cones);
         }
-        placed.push(i);
+        placed_index.add(i as u32, t);
     }
     kept.sort_by_key(|(i, _)| *i);
     out.somas.push(SomaPlan {

@@ -75,6 +75,11 @@ impl Surface {
         self.alive.truncate(mark.triangles);
     }
 
+    /// The corners of triangle `t`.
+    pub fn corners(&self, t: u32) -> [[f64; 3]; 3] {
+        self.tris[t as usize].map(|k| self.pos[k as usize].to_array())
+    }
+
     /// Number of triangles ever added (removed ones included).
     pub fn triangle_count(&self) -> usize {
         self.tris.len()

@@ -46,8 +46,7 @@ pub fn first_outside_from(
         !cones.iter().any(|&(a, b, ra, rb)| {
             // Neither test can pass when the disc's centre is farther from the
             // cone's axis than the disc's radius plus the cone's.
-            let reach = r + ra.max(rb) + margin;
-            if point_segment_distance_sq(s.pos, a, b) >= reach * reach {
+            if !may_reach(s.pos, r + margin, (a, b, ra, rb)) {
                 return false;
             }
             // A contour vertex inside the cone, or the cone's axis crossing the disc.
@@ -57,21 +56,25 @@ pub fn first_outside_from(
     })
 }
 
+/// Whether cone `c` can hold a point within `r` of `p`: its axis comes
+/// closer to `p` than its larger radius plus `r`.
+fn may_reach(p: DVec3, r: f64, (a, b, ra, rb): Cone) -> bool {
+    let reach = r + ra.max(rb);
+    point_segment_distance_sq(p, a, b) < reach * reach
+}
+
 /// The fraction of the vertices of the contour of track point `i` that lie
 /// outside every one of `cones` (with their linear radius).
 pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone]) -> f64 {
     let s = &track.samples[i];
     let m = track.counts[i];
     let r = track.radii[i];
-    // A cone holds a point of the contour only if its axis comes within its
-    // larger radius plus the contour's of the centre: the others are left
-    // out once, not once per vertex.
+    // The cones that cannot hold a point of the contour are left out once,
+    // not once per vertex.
     let reach: Vec<Cone> = cones
         .iter()
         .copied()
-        .filter(|&(a, b, ra, rb)| {
-            point_segment_distance_sq(s.pos, a, b) <= (ra.max(rb) + r).powi(2)
-        })
+        .filter(|&c| may_reach(s.pos, r, c))
         .collect();
     let outside = crate::contour::ring(s.pos, s.tangent, track.frames[i], r, m)
         .filter(|&p| {
@@ -151,8 +154,10 @@ pub fn cones(track: &Track, from: usize, to: usize) -> Vec<Cone> {
         .collect()
 }
 
-/// The round cones of every track, bucketed in a uniform grid so the cones
-/// near a point can be listed.
+/// Round cones of tracks, bucketed in a uniform grid so the cones near a
+/// point can be listed; tracks are added one by one, so an index holds just
+/// the branches a query may return.
+#[derive(Clone)]
 pub struct ConeIndex {
     cell: f64,
     grid: FastMap<[i64; 3], Vec<(u32, u32)>>,
@@ -161,15 +166,6 @@ pub struct ConeIndex {
 }
 
 impl ConeIndex {
-    /// Indexes the segments of all `tracks`.
-    pub fn new(tracks: &[Track]) -> ConeIndex {
-        let mut index = ConeIndex::empty_for(tracks);
-        for (b, t) in tracks.iter().enumerate() {
-            index.add(b as u32, t);
-        }
-        index
-    }
-
     /// An index with no cones yet, its cells sized for `tracks` (8 times
     /// their median radius), to which tracks are added one by one.
     pub fn empty_for(tracks: &[Track]) -> ConeIndex {
@@ -215,20 +211,14 @@ impl ConeIndex {
         }
     }
 
-    /// The cones of branches accepted by `keep` that come within `reach` of `p`.
-    pub fn near(
-        &self,
-        tracks: &[Track],
-        p: DVec3,
-        reach: f64,
-        keep: impl Fn(u32) -> bool,
-    ) -> Vec<Cone> {
+    /// The cones that come within `reach` of `p`.
+    pub fn near(&self, tracks: &[Track], p: DVec3, reach: f64) -> Vec<Cone> {
         let lo = ((p - DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
         let hi = ((p + DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
         let mut seen: crate::hash::FastSet<(u32, u32)> = crate::hash::FastSet::default();
         let mut out = Vec::new();
         let mut consider = |b: u32, i: u32, out: &mut Vec<Cone>| {
-            if !keep(b) || !seen.insert((b, i)) {
+            if !seen.insert((b, i)) {
                 return;
             }
             let t = &tracks[b as usize];
