@@ -225,6 +225,26 @@ fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
             100.0 * v / total
         );
     }
+    if std::env::var("GAPS_HIST").is_ok() {
+        let mut h = [0.0f64; 10];
+        let mut n = [0usize; 10];
+        for &(lost, _, own) in &rows {
+            if own > 0.0 {
+                let b = ((lost / own * 10.0) as usize).min(9);
+                h[b] += lost;
+                n[b] += 1;
+            }
+        }
+        for b in 0..10 {
+            println!(
+                "  cones missing {:3}-{:3} % of own: {:5} cones, {:6.2} % of union",
+                b * 10,
+                b * 10 + 10,
+                n[b],
+                100.0 * h[b] / total
+            );
+        }
+    }
     for &(lost, i, own) in rows.iter().take(top) {
         let c = &cones[i];
         println!(

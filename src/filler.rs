@@ -27,13 +27,19 @@
 //!
 //! The same holds where a branch's tube breaks into pieces
 //! ([`crate::piece`]): a piece that would cross itself ends, and the next
-//! starts at the first contour clear of its volume. Where the branch turns
-//! back on itself (a zig-zag of segments shorter than their radius, a
-//! hairpin) the contours in between are its only cover, so the gap gets a
-//! filler too, from past the piece's last ring to the next piece's start
-//! ([`span_from`]; it made up 1.6 % of a von Economo spindle cell's volume
-//! and 1.1 % of a fly larva neuron's). Trunks get theirs from
-//! [`crate::starts`]: their first round cone, straight.
+//! starts at the first contour clear of its volume; and where a piece skips
+//! contours that would cross their predecessor, bridging them with one
+//! band. Where the branch turns back on itself (a spike of one sample, a
+//! zig-zag of segments a few radii long, a hairpin) the contours left out
+//! are its only cover. Each original segment whose left-out contours reach
+//! out of what the pieces hold gets a *segment filler*: its own round cone,
+//! straight ([`Straight`], [`segment_track`]), domed at both ends. A filler
+//! along the track would skip the same contours. On the 48 files of the
+//! corpus they brought the volume of an olivocerebellar climbing fibre from
+//! 5.9 % under the union of round cones to 2.3 %, of an amoeboid microglia
+//! from 4.2 % to 1.8 %, of a FlyWire neuron from 10.7 % to 7.6 %. Trunks get
+//! their start filler from [`crate::starts`]: their first round cone,
+//! straight.
 //!
 //! Only fillers estimated to add [`MIN_GAIN`] of the cell's volume are built,
 //! and only when together they add [`MIN_TOTAL_GAIN`]: each costs a couple
@@ -43,11 +49,15 @@
 //! other nested parts. The mesher removes the fillers when nothing at all
 //! crosses (the one case where the overlap pass does not run). If the pass
 //! leaves a crossing uncut, the cell is meshed again without the filler
-//! pieces in the crossings left, then, if need be, without any
-//! ([`crate::mesher::finish`]); each meshing costs its own time (a FlyWire
-//! neuron: 1.7 s against 1.0 s without fillers). Filler pieces left touching
+//! pieces in the crossings left (up to three more times, each also without
+//! those in the crossings the try before left), then, if need be, without
+//! any ([`crate::mesher::finish`]); each meshing costs its own time (a
+//! FlyWire neuron: 2.0 s against 0.6 s when the first try holds). Filler pieces left touching
 //! nothing, and voids the fillers close in, are removed after the union.
 
+use glam::DVec3;
+
+use crate::params::Params;
 use crate::piece::{self, Caps};
 use crate::surface::Surface;
 use crate::track::Track;
@@ -98,6 +108,79 @@ pub fn span_from(
     Some((first.saturating_sub(1).max(floor), end, gain))
 }
 
+/// A filler's own track, when it does not run along its branch's: one round
+/// cone of the skeleton, straight, from the branch's original point `first`
+/// to the next (a trunk's first cone, [`crate::starts`]; a segment whose
+/// contours were skipped, [`crate::piece::Pieces::segments`]).
+#[derive(Debug, Clone)]
+pub struct Straight {
+    /// The cone's track.
+    pub track: Track,
+    /// Index of its first point among its branch's original points.
+    pub first: u32,
+    /// Whether it starts flat, drawn in: the filler of the segment before
+    /// ends in a dome around its start.
+    pub flat_start: bool,
+}
+
+/// The straight track of the round cone `p`–`q` with radii `radii`, sampled
+/// like a track of edge length `edge`: at the cone's own mean radius its
+/// contours would stand a radius apart, and their flat bands cut far inside
+/// where the cone meets a much thicker neighbour (a trunk leaving its
+/// sphere). `None` for a cone of no length.
+pub fn straight_track(
+    p: DVec3,
+    q: DVec3,
+    radii: [f64; 2],
+    edge: f64,
+    params: &Params,
+) -> Option<Track> {
+    if p.distance(q) <= 0.0 || edge <= 0.0 {
+        return None;
+    }
+    let params = Params {
+        resolution: 0.5 * (radii[0] + radii[1]) / edge,
+        ..*params
+    };
+    Some(Track::new(&[p, q], &radii, &params, None))
+}
+
+/// A segment filler's cone is drawn in to this fraction of the skeleton's
+/// radii. Where the tube holds the segment after all, the filler's surface
+/// then lies inside the tube's and meets it at an angle, instead of running
+/// along it, the same cone drawn twice by polygons out of phase: such
+/// grazing contacts are where the overlap pass fails to cut, and a cell
+/// whose fillers it cannot unite is meshed again without some of them. On
+/// a FlyWire neuron drawn in cones cross the rest in 35,512 pairs instead
+/// of 42,850. It gives up a tenth of the volume a filler adds.
+pub const SEGMENT_SHRINK: f64 = 0.95;
+
+/// A segment filler that follows another in a run of them starts flat, its
+/// first contour drawn in to this fraction of the segment's radius inside
+/// the dome the one before ends with. Domed too, the two would draw the
+/// sphere around their shared point twice.
+pub const SEGMENT_TUCK: f64 = 0.9;
+
+/// The straight track of a segment filler (see [`Straight`]): the round cone
+/// `ends` with `radii`, drawn in ([`SEGMENT_SHRINK`]), and tucked at its
+/// start when it starts flat ([`SEGMENT_TUCK`]).
+pub fn segment_track(
+    ends: (DVec3, DVec3),
+    radii: [f64; 2],
+    edge: f64,
+    params: &Params,
+    flat_start: bool,
+) -> Option<Track> {
+    let mut track = straight_track(ends.0, ends.1, radii, edge, params)?;
+    for r in &mut track.radii {
+        *r *= SEGMENT_SHRINK;
+    }
+    if flat_start {
+        track.radii[0] *= SEGMENT_TUCK;
+    }
+    Some(track)
+}
+
 /// Builds the fillers of `spans` into `surface` (closed pieces, each a part
 /// of its own) and returns, per piece, its span's index and its triangles.
 /// `track_of(k)` is the track span `k` runs along, `end_rings(k)` the rings
@@ -106,8 +189,8 @@ pub fn build<'t>(
     surface: &mut Surface,
     spans: &[(u32, usize, usize)],
     track_of: impl Fn(usize) -> &'t Track,
-    labels: impl Fn(u32) -> Vec<u32>,
-    cap_rings: u32,
+    labels: impl Fn(usize) -> Vec<u32>,
+    start_rings: impl Fn(usize) -> u32,
     end_rings: impl Fn(usize) -> u32,
 ) -> Vec<(u32, std::ops::Range<u32>)> {
     let mut parts = Vec::new();
@@ -115,15 +198,14 @@ pub fn build<'t>(
         let caps = Caps {
             first_start: true,
             later_starts: true,
-            rings: cap_rings,
+            rings: start_rings(k),
             end_rings: end_rings(k),
         };
         let track = track_of(k).prefix(end);
         // Capped at every start, no piece is spliced: the anchor is unused.
         let anchor = track.samples[0].pos;
-        let (pieces, _, _) =
-            piece::build_pieces(surface, &track, &labels(b), b, from, anchor, caps);
-        parts.extend(pieces.into_iter().map(|t| (k as u32, t.tris)));
+        let pieces = piece::build_pieces(surface, &track, &labels(k), b, from, anchor, caps);
+        parts.extend(pieces.tubes.into_iter().map(|t| (k as u32, t.tris)));
     }
     parts
 }

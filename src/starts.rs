@@ -257,14 +257,11 @@ fn set_trunk_filler(
     }
     let axis = (p1 - p0) / length;
     let radii = [g.radius[s0], g.radius[s1]];
-    // Sampled like the trunk itself: at the cone's own mean radius the
-    // contours would stand a soma radius apart, and their flat bands cut far
-    // inside the flank where it leaves the sphere.
-    let params = Params {
-        resolution: 0.5 * (radii[0] + radii[1]) / t.edge,
-        ..*with.params
+    // Sampled like the trunk itself.
+    let Some(mut straight) = crate::filler::straight_track(p0, p1, radii, t.edge, with.params)
+    else {
+        return;
     };
-    let mut straight = Track::new(&[p0, p1], &radii, &params, None);
     // Up to its first contour half a step or more beyond the tube's start,
     // so that its end lies in the tube, drawn in there ([`TUCK`]) and capped
     // flat (`mesher::build_fillers`). Ending at full radius, its last bands
