@@ -6,6 +6,8 @@
 //! (counted once, by the lowest-index grown box), keeps the points inside the
 //! mesh and outside every primitive, and prints the primitives with the most
 //! such volume nearby (`EXTRA_POINTS=i` prints primitive i's points).
+//! `GAPS_HIST=1` also sorts the primitives by the share of their own volume
+//! the mesh misses, in tenths, with the union's volume each tenth loses.
 //!
 //! `cargo run --release --example volume_gaps -- FILE.swc [TOP] [--extra]`
 use glam::DVec3;
