@@ -127,11 +127,12 @@ pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> 
 
 /// How many times the mesher unites the fillers again, each time also
 /// without those in the crossings the last try left, before it gives all of
-/// them up. Which contacts the pass fails to cut shifts from try to try: on
-/// the two FlyWire neurons of the corpus, the second try failed elsewhere
-/// and the third or fourth succeeded, keeping 120 of 123 fillers where the
-/// single retry there was kept none (their volume 18.4 % under the union of
-/// round cones instead of 8.9 %).
+/// them up. Which contacts the pass fails to cut shifts from try to try. In
+/// trials on a FlyWire neuron of the corpus (with more, larger segment
+/// fillers than built now) the tries without 15 and 17 fillers failed
+/// elsewhere and the one without 23 held, keeping 272; a single retry
+/// would have given all of them up, leaving the cell 18.4 % under the union
+/// of round cones instead of 8.2 %.
 const MAX_FILLER_RETRIES: usize = 3;
 
 /// The fillers' parts of a mesh: parts from `first_part` on, each of the
@@ -548,14 +549,14 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         .iter()
         .map(|t| crate::volume::slices(t, 0, t.samples.len(), |_| 1.0))
         .sum();
-    let worth = |f: &(usize, usize, f64)| plausible && f.2 >= crate::filler::MIN_GAIN * cell;
+    let worth = |gain: f64| plausible && gain >= crate::filler::MIN_GAIN * cell;
     // Each branch's start filler (along the straight track for a trunk that
     // has one), then those of the segments whose contours no piece took
     // (each along its own cone).
     let mut filler_track = filler_track;
     let segments: Vec<(u32, (u32, f64))> = segments
         .into_iter()
-        .filter(|&(_, (_, gain))| worth(&(0, 0, gain)))
+        .filter(|&(_, (_, gain))| worth(gain))
         .collect();
     let segment_filler = |i: usize| {
         let (b, (s, gain)) = segments[i];
@@ -592,7 +593,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             });
             f.map(|f| (b as u32, f, straight))
         })
-        .filter(|c| worth(&c.1))
+        .filter(|c| worth(c.1.2))
         .chain((0..segments.len()).filter_map(segment_filler))
         .collect();
     let gain: f64 = candidates.iter().map(|c| c.1.2).sum();

@@ -375,13 +375,15 @@ pub fn build_pieces(
         bands.push(end_cap.start);
         let last = rings[rings.len() - 1];
         let piece_start = rings[0].resampled as usize;
-        // Past the end cap only when no later piece takes the rest.
-        let ends_branch = !matches!(split_at, Some(k)
-            if track.arc[n - 1] - track.arc[k] > track.samples[last.resampled as usize].radius);
-        let tail = if ends_branch {
-            n
-        } else {
+        // Split only when the rest of the branch is worth a piece of its own;
+        // otherwise the contours past the end cap are this piece's to cover.
+        let next = split_at.filter(|&k| {
+            track.arc[n - 1] - track.arc[k] > track.samples[last.resampled as usize].radius
+        });
+        let tail = if next.is_some() {
             last.resampled as usize + 1
+        } else {
+            n
         };
         let dome = cap_height(&last, caps.end_rings);
         segments.extend(skipped_segments(track, &rings, tail, dome));
@@ -396,15 +398,8 @@ pub fn build_pieces(
             anchor,
         });
         first_piece = false;
-        let next = match split_at {
-            // Split only when the rest of the branch is worth a piece of its own.
-            Some(k)
-                if track.arc[n - 1] - track.arc[k]
-                    > track.samples[last.resampled as usize].radius =>
-            {
-                k
-            }
-            _ => break,
+        let Some(next) = next else {
+            break;
         };
         // The next piece aims its splice at where this one ends.
         anchor = last.center;
