@@ -386,7 +386,7 @@ pub fn build_pieces(
             n
         };
         let dome = cap_height(&last, caps.end_rings);
-        segments.extend(skipped_segments(track, &rings, tail, dome));
+        segments.extend(crate::filler::skipped_segments(track, &rings, tail, dome));
         tubes.push(Tube {
             branch,
             rings,
@@ -425,7 +425,7 @@ pub fn build_pieces(
                 let far = k + track.arc[k..].partition_point(|&a| a <= reach);
                 volume.extend(crate::volume::cones(track, k, far));
             }
-            segments.extend(segment_gains(track, after..end, &volume));
+            segments.extend(crate::filler::segment_gains(track, after..end, &volume));
             match found {
                 Some(k) => start = k,
                 None => break,
@@ -445,82 +445,6 @@ pub fn build_pieces(
         skipped,
         segments,
     }
-}
-
-/// The original segments of `track` (index of their first point) whose
-/// skipped contours reach out of what replaced them, with the volume they
-/// leave out, estimated from the contours' slices: between two kept `rings`
-/// the band's round cone; after the last ring, up to track point `tail`, the
-/// band's cone and the end dome (of height `dome`).
-///
-/// The paper skips a contour that crosses its predecessor, and the band
-/// from the kept one before to the next kept one stands for the skipped
-/// stretch. That holds on a smooth bend; where the trace jogs (a spike of
-/// one sample, a zig-zag of segments a few radii long, as on electron
-/// microscopy traces) the skipped contours lie well off that band and the
-/// segments' round cones are lost: 4 % of a fly larva neuron's volume in
-/// segments missing 90 % of theirs or more. Each such segment gets a filler
-/// of its own round cone ([`crate::filler`]).
-fn skipped_segments(track: &Track, rings: &[Ring], tail: usize, dome: f64) -> Vec<(u32, f64)> {
-    let cone = |a: &Ring, b: &Ring| {
-        let (j, k) = (a.resampled as usize, b.resampled as usize);
-        (
-            track.samples[j].pos,
-            track.samples[k].pos,
-            track.radii[j],
-            track.radii[k],
-        )
-    };
-    let mut out = Vec::new();
-    for w in rings.windows(2) {
-        let band = [cone(&w[0], &w[1])];
-        out.extend(segment_gains(
-            track,
-            w[0].resampled as usize + 1..w[1].resampled as usize,
-            &band,
-        ));
-    }
-    let last = &rings[rings.len() - 1];
-    let mut end = vec![(last.center, last.center, dome, dome)];
-    if rings.len() > 1 {
-        end.push(cone(&rings[rings.len() - 2], last));
-    }
-    out.extend(segment_gains(
-        track,
-        last.resampled as usize + 1..tail.min(track.samples.len()),
-        &end,
-    ));
-    out
-}
-
-/// Per original segment of `track` (index of its first point), the volume
-/// of the contours of track points `points` outside every one of `cones`,
-/// estimated from their slices. An original point counts for the segment it
-/// starts (the last one, for the one it ends).
-fn segment_gains(
-    track: &Track,
-    points: Range<usize>,
-    cones: &[crate::volume::Cone],
-) -> Vec<(u32, f64)> {
-    let last = track.originals.len().saturating_sub(2);
-    let mut out: Vec<(u32, f64)> = Vec::new();
-    for i in points {
-        let w = crate::volume::fraction_outside(track, i, cones);
-        if w <= 0.0 {
-            continue;
-        }
-        let gain = crate::volume::slices(track, i, i + 1, |_| w);
-        let s = (track
-            .originals
-            .partition_point(|&o| o <= i)
-            .saturating_sub(1))
-        .min(last) as u32;
-        match out.last_mut() {
-            Some(o) if o.0 == s => o.1 += gain,
-            _ => out.push((s, gain)),
-        }
-    }
-    out
 }
 
 /// Height of the dome [`tube::cap`] builds on `ring` (its enlarged radius).
