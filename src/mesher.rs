@@ -444,7 +444,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         spliced_trunk,
         somas,
         filler,
-        filler_track,
+        mut filler_track,
     } = crate::starts::plan(&m, &geometry, &branches, &tracks, params);
     // 3. Tubes, in parallel, appended in branch order.
     let jobs: Vec<u32> = (0..branches.len() as u32)
@@ -553,7 +553,6 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     // Each branch's start filler (along the straight track for a trunk that
     // has one), then those of the segments whose contours no piece took
     // (each along its own cone).
-    let mut filler_track = filler_track;
     let segments: Vec<(u32, (u32, f64))> = segments
         .into_iter()
         .filter(|&(_, (_, gain))| worth(gain))
@@ -582,7 +581,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     };
     // Branch, track points `from..to` and estimated gain, own track.
     type Candidate = (u32, (usize, usize, f64), Option<Straight>);
-    let candidates: Vec<Candidate> = filler
+    let starts: Vec<Candidate> = filler
         .iter()
         .enumerate()
         .filter_map(|(b, f)| {
@@ -594,16 +593,17 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
             f.map(|f| (b as u32, f, straight))
         })
         .filter(|c| worth(c.1.2))
-        .chain((0..segments.len()).filter_map(segment_filler))
         .collect();
-    let gain: f64 = candidates.iter().map(|c| c.1.2).sum();
+    let gain: f64 =
+        starts.iter().map(|c| c.1.2).sum::<f64>() + segments.iter().map(|s| s.1.1).sum::<f64>();
     // Together they must change the volume by a visible share: each costs
     // crossing pairs, and a cell they would change by half a percent meshes
-    // twice as fast without them.
+    // twice as fast without them. The segments' tracks are built only then.
     let (fillers, filler_straight): (Vec<_>, Vec<_>) =
         if gain >= crate::filler::MIN_TOTAL_GAIN * cell {
-            candidates
+            starts
                 .into_iter()
+                .chain((0..segments.len()).filter_map(segment_filler))
                 .map(|(b, (from, to, _), straight)| ((b, from, to), straight))
                 .unzip()
         } else {
