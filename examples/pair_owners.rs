@@ -8,6 +8,9 @@ fn main() {
     neuromesh::mesher::splice_all(&mut stage, &params);
     neuromesh::mesher::build_fillers(&mut stage, &params);
     let fp = stage.filler_parts;
+    let filler_of_part = stage.filler_of_part.clone();
+    let fillers = stage.fillers.clone();
+    let straight: Vec<bool> = stage.filler_straight.iter().map(Option::is_some).collect();
     println!("tubes {}", stage.tubes.len());
     let (mut mesh, owner) = stage
         .surface
@@ -22,6 +25,40 @@ fn main() {
         before.len(),
         same
     );
+    // Pairs by kind: between two tube/soma parts, a filler and a tube, two fillers.
+    let mut kinds = [0usize; 3];
+    for p in &before {
+        let n = p
+            .iter()
+            .filter(|&&f| owner[f as usize] >= fp && owner[f as usize] != u32::MAX)
+            .count();
+        kinds[n] += 1;
+    }
+    println!(
+        "  tube-tube {}, filler-tube {}, filler-filler {}",
+        kinds[0], kinds[1], kinds[2]
+    );
+    // Pairs per filler (counted once for each filler face in a pair).
+    let mut per: std::collections::BTreeMap<u32, usize> = Default::default();
+    for p in &before {
+        for &f in p {
+            let o = owner[f as usize];
+            if o >= fp && o != u32::MAX {
+                *per.entry(filler_of_part[(o - fp) as usize]).or_default() += 1;
+            }
+        }
+    }
+    for (k, n) in &per {
+        let (b, from, to) = fillers[*k as usize];
+        println!(
+            "  filler {k}: branch {b} track {from}..{to} {} pairs {n}",
+            if straight[*k as usize] {
+                "straight"
+            } else {
+                "along"
+            }
+        );
+    }
     for p in before
         .iter()
         .filter(|p| owner[p[0] as usize] == owner[p[1] as usize])

@@ -421,6 +421,36 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
                 cuts.cut_edges.insert((w[0].min(w[1]), w[0].max(w[1])));
             }
         }
+        let before = out.faces.len();
+        // One or more curves straight across the face, the common case: split
+        // and clip ears (in the plane mirrored where the face looks down, so
+        // that its boundary runs counter-clockwise).
+        if splits.iter().all(Vec::is_empty) {
+            let local_segs: Vec<[usize; 2]> =
+                segs.iter().map(|(s, _)| s.map(|k| local[&k])).collect();
+            let seen = if flip {
+                pts2.iter().map(|p| [-p[0], p[1]]).collect()
+            } else {
+                pts2.clone()
+            };
+            let clipped = chains(nb, ids.len(), &local_segs)
+                .and_then(|c| crate::planar::split_by_chains(nb, &c))
+                .and_then(|pieces| {
+                    let mut tris = Vec::new();
+                    for p in &pieces {
+                        tris.extend(crate::planar::triangulate_polygon(&seen, p)?);
+                    }
+                    Some(tris)
+                });
+            if let Some(tris) = clipped {
+                out.faces.extend(tris.iter().map(|t| t.map(|i| ids[i])));
+                out.origin.extend(std::iter::repeat_n(f, tris.len()));
+                if out.faces.len() - before != nb + 2 * inner.len() - 2 {
+                    return Err(at_fault("a cut face's pieces do not cover it"));
+                }
+                continue;
+            }
+        }
         let mut conflict = false;
         let points: Vec<Point2<f64>> = pts2.iter().map(|p| Point2::new(p[0], p[1])).collect();
         let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
@@ -433,7 +463,6 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
             return Err(at_fault("two new vertices round to one point"));
         }
         let outline: Vec<[f64; 2]> = pts2[..nb].to_vec();
-        let before = out.faces.len();
         for (ccw, c) in crate::planar::triangles_with_centroids(&cdt, &pts2) {
             if !crate::planar::inside_polygon(c, &outline) {
                 continue;
@@ -448,4 +477,74 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
         }
     }
     Ok(out)
+}
+
+/// The cut segments `segs` (local vertex numbers: the `nb` boundary vertices
+/// first, then the `n - nb` inner ones) as chains from a boundary vertex to
+/// another through inner vertices, if that is all they are: every inner
+/// vertex on two segments, every boundary vertex on at most one, no loop.
+fn chains(nb: usize, n: usize, segs: &[[usize; 2]]) -> Option<Vec<Vec<usize>>> {
+    let mut at: Vec<[usize; 2]> = vec![[usize::MAX; 2]; n];
+    let mut degree = vec![0usize; n];
+    for (k, s) in segs.iter().enumerate() {
+        for &v in s {
+            if degree[v] == 2 {
+                return None;
+            }
+            at[v][degree[v]] = k;
+            degree[v] += 1;
+        }
+    }
+    if (0..nb).any(|v| degree[v] > 1) || (nb..n).any(|v| degree[v] != 2) {
+        return None;
+    }
+    let mut used = vec![false; segs.len()];
+    let mut out = Vec::new();
+    for start in 0..nb {
+        if degree[start] != 1 || used[at[start][0]] {
+            continue;
+        }
+        let mut chain = vec![start];
+        let (mut v, mut k) = (start, at[start][0]);
+        loop {
+            used[k] = true;
+            v = if segs[k][0] == v {
+                segs[k][1]
+            } else {
+                segs[k][0]
+            };
+            chain.push(v);
+            if v < nb {
+                break;
+            }
+            k = if at[v][0] == k { at[v][1] } else { at[v][0] };
+        }
+        out.push(chain);
+    }
+    // Segments not reached from the boundary close a loop inside the face.
+    used.iter().all(|&u| u).then_some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::chains;
+
+    #[test]
+    fn cut_segments_become_chains_across_the_face_or_none() {
+        // Boundary 0..5, inner 5 and 6: one curve 1 → 5 → 6 → 4, given in any
+        // order and direction.
+        assert_eq!(
+            chains(5, 7, &[[6, 4], [5, 1], [5, 6]]),
+            Some(vec![vec![1, 5, 6, 4]])
+        );
+        // Two curves, each a single segment.
+        assert_eq!(
+            chains(7, 7, &[[1, 3], [4, 6]]),
+            Some(vec![vec![1, 3], vec![4, 6]])
+        );
+        // A loop inside the face, an inner end, a boundary vertex on two.
+        assert_eq!(chains(3, 6, &[[3, 4], [4, 5], [5, 3]]), None);
+        assert_eq!(chains(5, 6, &[[1, 5]]), None);
+        assert_eq!(chains(5, 6, &[[1, 5], [5, 2], [1, 3]]), None);
+    }
 }

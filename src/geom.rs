@@ -96,6 +96,13 @@ pub(crate) fn orient2d_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     }
 }
 
+/// Whether `d` lies strictly inside the circle through the counter-clockwise
+/// triangle `a`, `b`, `c` (exact).
+#[inline]
+pub(crate) fn in_circle(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    robust::incircle(c2(a), c2(b), c2(c), c2(d)) > 0.0
+}
+
 /// Whether the closed segment (s, e) meets the closed triangle t.
 pub fn segment_hits_triangle(s: P3, e: P3, t: [P3; 3]) -> bool {
     let ds = orient3d_sign(t[0], t[1], t[2], s);
@@ -134,7 +141,8 @@ fn dominant_axis(n: P3) -> usize {
     }
 }
 
-fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+/// Whether the closed 2D segments ab and cd share a point (exact).
+pub(crate) fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     let o1 = orient2d_sign(a, b, c);
     let o2 = orient2d_sign(a, b, d);
     let o3 = orient2d_sign(c, d, a);

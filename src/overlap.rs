@@ -934,7 +934,7 @@ fn prove(
     all_pos: &[P3],
     first_piece: usize,
     n_old: u32,
-    origin_of: &impl Fn(usize) -> u32,
+    origin_of: &(impl Fn(usize) -> u32 + Sync),
     near: &Near,
 ) -> Result<(), (&'static str, Vec<u32>)> {
     let is_new = |v: u32| v >= n_old;
@@ -1010,11 +1010,21 @@ fn prove(
         why = "a cut face's piece is a sliver";
     }
     if bad.is_empty() {
-        // Rounded to f32, the kept pieces must still clear each other.
+        // Rounded to f32, the kept pieces must still clear each other. The
+        // pieces of one face do: they are a triangulation of its rounded
+        // points projected to a plane (see `cut::retriangulate`), and two
+        // lifted triangles can only meet where their projections do, at a
+        // shared vertex or edge.
         let bvh = Bvh::new(pieces.iter().map(|&f| Aabb::of(&tri(f))).collect());
         let crossing = bvh.overlapping_pairs(|i, j| {
             let (a, b) = (pieces[i as usize], pieces[j as usize]);
-            crate::check::pair_intersects(faces[a as usize], faces[b as usize], tri(a), tri(b))
+            origin_of(a as usize) != origin_of(b as usize)
+                && crate::check::pair_intersects(
+                    faces[a as usize],
+                    faces[b as usize],
+                    tri(a),
+                    tri(b),
+                )
         });
         for [i, j] in crossing {
             bad.push(origin_of(pieces[i as usize] as usize));
@@ -1025,27 +1035,53 @@ fn prove(
     if bad.is_empty() {
         // Nor may a kept piece cross an old face left as it was. The old
         // faces sit in the round's BVH at their own (f32) coordinates.
-        let crossing = crate::parallel::flat_map_range(pieces.len(), |k| {
-            let p = pieces[k];
-            let tp = tri(p);
-            let bp = Aabb::of(&tp);
-            let mut hit = false;
-            near.bvh.for_each_overlap(&bp, |i| {
+        // The pieces of one old face are consecutive: the old faces near
+        // them are looked up once, with the box of all of them.
+        let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
+        for k in 0..pieces.len() {
+            match groups.last_mut() {
+                Some(g) if origin_of(pieces[g.start] as usize) == origin_of(pieces[k] as usize) => {
+                    g.end = k + 1;
+                }
+                _ => groups.push(k..k + 1),
+            }
+        }
+        let crossing = crate::parallel::flat_map_range(groups.len(), |g| {
+            let group = &pieces[groups[g].clone()];
+            let mut bounds = Aabb::EMPTY;
+            for &p in group {
+                bounds.add(&Aabb::of(&tri(p)));
+            }
+            let mut near_faces: Vec<(u32, [P3; 3], Aabb)> = Vec::new();
+            near.bvh.for_each_overlap(&bounds, |i| {
                 for b in near.runs[i as usize].0.clone() {
-                    if hit || !kept[b as usize] || near.in_cluster[b as usize] != u32::MAX {
+                    if !kept[b as usize] || near.in_cluster[b as usize] != u32::MAX {
                         continue;
                     }
                     let tb = tri(b);
-                    hit = bp.overlaps(&Aabb::of(&tb))
-                        && crate::check::pair_intersects(
-                            faces[p as usize],
-                            faces[b as usize],
-                            tp,
-                            tb,
-                        );
+                    let bb = Aabb::of(&tb);
+                    if bb.overlaps(&bounds) {
+                        near_faces.push((b, tb, bb));
+                    }
                 }
             });
-            if hit { vec![p] } else { Vec::new() }
+            if near_faces.is_empty() {
+                return Vec::new();
+            }
+            let hit = group.iter().any(|&p| {
+                let tp = tri(p);
+                let bp = Aabb::of(&tp);
+                near_faces.iter().any(|(b, tb, bb)| {
+                    bp.overlaps(bb)
+                        && crate::check::pair_intersects(
+                            faces[p as usize],
+                            faces[*b as usize],
+                            tp,
+                            *tb,
+                        )
+                })
+            });
+            if hit { vec![group[0]] } else { Vec::new() }
         });
         bad.extend(crossing.iter().map(|&p| origin_of(p as usize)));
         why = "rounded to f32, a kept piece crosses a face";
