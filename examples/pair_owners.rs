@@ -48,15 +48,32 @@ fn main() {
             }
         }
     }
+    // And the parts each filler crosses, with the pairs with each.
+    let mut with: std::collections::BTreeMap<(u32, u32), usize> = Default::default();
+    for p in &before {
+        let (a, b) = (owner[p[0] as usize], owner[p[1] as usize]);
+        for (f, o) in [(a, b), (b, a)] {
+            if f >= fp && f != u32::MAX {
+                *with.entry((filler_of_part[(f - fp) as usize], o)).or_default() += 1;
+            }
+        }
+    }
     for (k, n) in &per {
         let (b, from, to) = fillers[*k as usize];
+        let parts: Vec<String> = with
+            .range((*k, 0)..(*k + 1, 0))
+            .map(|((_, o), c)| {
+                if *o >= fp && *o != u32::MAX {
+                    format!("filler {}: {c}", filler_of_part[(*o - fp) as usize])
+                } else {
+                    format!("part {o}: {c}")
+                }
+            })
+            .collect();
         println!(
-            "  filler {k}: branch {b} track {from}..{to} {} pairs {n}",
-            if straight[*k as usize] {
-                "straight"
-            } else {
-                "along"
-            }
+            "  filler {k}: branch {b} track {from}..{to} {} pairs {n} ({})",
+            if straight[*k as usize] { "straight" } else { "along" },
+            parts.join(", ")
         );
     }
     for p in before
