@@ -54,7 +54,9 @@ fn main() {
         let (a, b) = (owner[p[0] as usize], owner[p[1] as usize]);
         for (f, o) in [(a, b), (b, a)] {
             if f >= fp && f != u32::MAX {
-                *with.entry((filler_of_part[(f - fp) as usize], o)).or_default() += 1;
+                *with
+                    .entry((filler_of_part[(f - fp) as usize], o))
+                    .or_default() += 1;
             }
         }
     }
@@ -72,7 +74,11 @@ fn main() {
             .collect();
         println!(
             "  filler {k}: branch {b} track {from}..{to} {} pairs {n} ({})",
-            if straight[*k as usize] { "straight" } else { "along" },
+            if straight[*k as usize] {
+                "straight"
+            } else {
+                "along"
+            },
             parts.join(", ")
         );
     }
