@@ -104,9 +104,11 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
         vec![NO_OWNER; mesh.faces.len()]
     };
     let mut out = Outcome::default();
-    // After the first round, crossings can only involve a face at a vertex
-    // that round made or kept uncut, or that the nudge moved: every other face
-    // kept its f32 corners, and its crossings were all cut.
+    // After the first round, crossings can only involve a face of a cluster
+    // left uncut or at a vertex the nudge moved: every other old face kept
+    // its f32 corners, and its crossings were all cut; and the round's proof
+    // showed that its pieces cross neither each other nor any old face outside
+    // the clusters (a piece crossing a face left uncut is found from that face).
     let mut dirty: Option<Vec<u32>> = None;
     let mut left_parts = Vec::new();
     for round in 0..ROUNDS {
@@ -140,8 +142,8 @@ struct Round {
     /// The vertices to nudge: of every face of the clusters left uncut
     /// (first round) or only of the faces at fault.
     stuck: Vec<u32>,
-    /// The vertices of faces that may still cross something: the new ones and
-    /// those of the clusters left uncut.
+    /// The vertices of faces that may still cross something: those of the
+    /// clusters left uncut.
     dirty: Vec<u32>,
     /// The parts of the faces of the clusters left uncut ([`Resolved`]).
     left_parts: Vec<u32>,
@@ -415,7 +417,7 @@ struct Built {
     failure: Option<&'static str>,
     /// Vertices to nudge (of faces of clusters left uncut).
     stuck: Vec<u32>,
-    /// The new vertices and those of the faces of clusters left uncut.
+    /// The vertices of the faces of clusters left uncut.
     dirty: Vec<u32>,
     /// The parts of the faces of clusters left uncut.
     left_parts: Vec<u32>,
@@ -597,7 +599,6 @@ fn union(
                 stuck.sort_unstable();
                 let mut dirty: Vec<u32> = vertices_of(&faces[..first_piece], &uncut)
                     .into_iter()
-                    .chain(n_old..all_pos.len() as u32)
                     .map(|k| remap[k as usize])
                     .filter(|&k| k != u32::MAX)
                     .collect();
