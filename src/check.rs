@@ -327,7 +327,6 @@ impl MeshView<'_> {
 
 /// Disjoint sets over `0..n` (path halving, smaller root wins, so the result
 /// does not depend on the order of unions).
-#[derive(Clone)]
 pub(crate) struct UnionFind(Vec<u32>);
 
 impl UnionFind {

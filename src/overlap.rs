@@ -507,21 +507,6 @@ fn union(
         }
     };
     let mut alive = vec![true; faces.len()];
-    // What no retry changes, found once: the patches of the old faces outside
-    // every cluster (alive in every try), and the size of every face.
-    let base = PatchBase::new(
-        &faces,
-        |f| f < first_piece && face_cluster[f] == u32::MAX,
-        n_old,
-    );
-    let size: Vec<f64> = faces
-        .iter()
-        .map(|face| {
-            let t = face.map(|k| all_pos[k as usize]);
-            let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
-            crate::mesh::dot(n, n)
-        })
-        .collect();
     // Verdicts of the patches' sample faces, kept across the retries.
     let mut known: FastMap<u32, bool> = FastMap::default();
     loop {
@@ -537,7 +522,7 @@ fn union(
                 ok[piece_cluster[f - first_piece] as usize]
             };
         }
-        let patch = base.patches(&faces, &alive, &cut_edges);
+        let patch = patches(&faces, &alive, n_old as usize, &cut_edges);
         // A patch holding faces of a cluster left uncut may lie partly inside
         // and partly outside: it is always kept (the proof then finds any
         // cut next to it that this leaves inconsistent).
@@ -552,7 +537,6 @@ fn union(
             &faces,
             &alive,
             &all_pos,
-            &size,
             &patch,
             &origin_of,
             &faces[..first_piece],
@@ -723,117 +707,69 @@ fn assemble(
     out_owner
 }
 
-/// The patches of the faces alive in every try of a round (old faces outside
-/// every cluster), from which [`PatchBase::patches`] finds each try's.
-struct PatchBase {
-    /// The faces joined so far.
-    uf: crate::check::UnionFind,
-    /// For each old vertex, a face of it joined so far (`u32::MAX`: none).
-    first_face: Vec<u32>,
-    /// Which faces are in already.
-    stable: Vec<bool>,
-}
-
-impl PatchBase {
-    /// The patches of the faces `stable(f)` says are alive in every try
-    /// (their corners are all old vertices, below `n_old`).
-    fn new(faces: &[[u32; 3]], stable: impl Fn(usize) -> bool, n_old: u32) -> PatchBase {
-        let mut base = PatchBase {
-            uf: crate::check::UnionFind::new(faces.len()),
-            first_face: vec![u32::MAX; n_old as usize],
-            stable: (0..faces.len()).map(stable).collect(),
-        };
-        for (f, face) in faces.iter().enumerate() {
-            if base.stable[f] {
-                base.join_at_old_vertices(f as u32, face);
-            }
+/// Patch number of every face: faces joined through an old vertex (a cut
+/// never passes through one) or through an uncut edge at a new vertex.
+fn patches(
+    faces: &[[u32; 3]],
+    alive: &[bool],
+    n_old_vertices: usize,
+    cut_edges: &FastSet<(u32, u32)>,
+) -> Vec<u32> {
+    let mut uf = crate::check::UnionFind::new(faces.len());
+    let mut first_face = vec![u32::MAX; n_old_vertices];
+    let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
+    for (f, face) in faces.iter().enumerate() {
+        if !alive[f] {
+            continue;
         }
-        base
-    }
-
-    /// Joins face `f` to the faces joined so far at its old vertices (a cut
-    /// never passes through one); returns its new vertices' positions in it.
-    fn join_at_old_vertices(&mut self, f: u32, face: &[u32; 3]) -> [bool; 3] {
-        let mut new = [false; 3];
+        let f = f as u32;
         for e in 0..3 {
             let v = face[e];
-            if v as usize >= self.first_face.len() {
-                new[e] = true;
-                continue;
-            }
-            let slot = &mut self.first_face[v as usize];
-            if *slot == u32::MAX {
-                *slot = f;
-            } else {
-                self.uf.union(*slot, f);
-            }
-        }
-        new
-    }
-
-    /// Patch number of every face: faces joined through an old vertex or
-    /// through an uncut edge at a new vertex, numbered in order of their
-    /// first face (dead faces are patches of their own).
-    fn patches(
-        &self,
-        faces: &[[u32; 3]],
-        alive: &[bool],
-        cut_edges: &FastSet<(u32, u32)>,
-    ) -> Vec<u32> {
-        let mut this = PatchBase {
-            uf: self.uf.clone(),
-            first_face: self.first_face.clone(),
-            stable: Vec::new(),
-        };
-        let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
-        for (f, face) in faces.iter().enumerate() {
-            if !alive[f] || self.stable[f] {
-                continue;
-            }
-            let f = f as u32;
-            let new = this.join_at_old_vertices(f, face);
-            for e in (0..3).filter(|&e| new[e]) {
-                let (v, w) = (face[e], face[(e + 1) % 3]);
-                let key = (v.min(w), v.max(w));
-                if cut_edges.contains(&key) {
-                    continue;
-                }
-                if let Some(&other) = new_edges.get(&key) {
-                    this.uf.union(other, f);
-                } else {
-                    new_edges.insert(key, f);
-                }
-            }
-        }
-        let mut uf = this.uf;
-        // Patches numbered in order of their first face.
-        let mut number = vec![u32::MAX; faces.len()];
-        let mut next = 0;
-        (0..faces.len() as u32)
-            .map(|f| {
-                let slot = &mut number[uf.find(f) as usize];
+            if (v as usize) < n_old_vertices {
+                let slot = &mut first_face[v as usize];
                 if *slot == u32::MAX {
-                    *slot = next;
-                    next += 1;
+                    *slot = f;
+                } else {
+                    uf.union(*slot, f);
                 }
-                *slot
-            })
-            .collect()
+                continue;
+            }
+            let w = face[(e + 1) % 3];
+            let key = (v.min(w), v.max(w));
+            if cut_edges.contains(&key) {
+                continue;
+            }
+            if let Some(&other) = new_edges.get(&key) {
+                uf.union(other, f);
+            } else {
+                new_edges.insert(key, f);
+            }
+        }
     }
+    // Patches numbered in order of their first face.
+    let mut number = vec![u32::MAX; faces.len()];
+    let mut next = 0;
+    (0..faces.len() as u32)
+        .map(|f| {
+            let slot = &mut number[uf.find(f) as usize];
+            if *slot == u32::MAX {
+                *slot = next;
+                next += 1;
+            }
+            *slot
+        })
+        .collect()
 }
 
 /// Whether each patch lies outside every other part: the winding number of
 /// the original surface without the face a sample point lies on, at that
-/// point, by a vote of three rays, sampled at the patch's largest face
-/// (`size`: the squared double area of each face). `known` holds the verdicts
-/// of sample faces already cast (by an earlier try of the same round) and
-/// gains the new ones.
+/// point, by a vote of three rays. `known` holds the verdicts of sample faces
+/// already cast (by an earlier try of the same round) and gains the new ones.
 #[allow(clippy::too_many_arguments)]
 fn classify(
     faces: &[[u32; 3]],
     alive: &[bool],
     all_pos: &[P3],
-    size: &[f64],
     patch: &[u32],
     origin_of: &(impl Fn(usize) -> u32 + Sync),
     old_faces: &[[u32; 3]],
@@ -845,11 +781,13 @@ fn classify(
     let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
     // The largest face of each patch: its centroid is far from the cuts.
     let mut best: Vec<(f64, u32)> = vec![(-1.0, u32::MAX); n_patches];
-    for f in 0..faces.len() {
+    for (f, face) in faces.iter().enumerate() {
         if !alive[f] {
             continue;
         }
-        let area = size[f];
+        let t = face.map(|k| all_pos[k as usize]);
+        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
+        let area = crate::mesh::dot(n, n);
         let slot = &mut best[patch[f] as usize];
         if area > slot.0 {
             *slot = (area, f as u32);
@@ -1196,30 +1134,6 @@ mod tests {
         );
         let area = 12.0 - 2.0 * (0.7 * 0.6 + 0.6 * 0.55 + 0.7 * 0.55);
         assert!((m.area() - area).abs() < 1e-6, "{}", m.area());
-    }
-
-    #[test]
-    fn patches_join_at_old_vertices_and_uncut_new_edges() {
-        // Old vertices 0..4, new ones 4 and 5. Faces 0 and 1 (stable) share
-        // old vertex 1; face 2 meets them only at new vertex 4 through the
-        // uncut edge (4, 5) of face 3, which shares old vertex 3 with face 1;
-        // face 4 shares only the cut edge (4, 5) with face 3; face 5 is dead.
-        let faces = [
-            [0, 1, 2],
-            [1, 3, 2],
-            [6, 4, 5],
-            [3, 5, 4],
-            [4, 5, 7],
-            [0, 2, 3],
-        ];
-        let n_old = 4;
-        let base = PatchBase::new(&faces, |f| f < 2, n_old);
-        let alive = [true, true, true, true, true, false];
-        let mut cut: FastSet<(u32, u32)> = FastSet::default();
-        // Faces 2 and 3 share edge (4, 5) too; with it uncut they join.
-        assert_eq!(base.patches(&faces, &alive, &cut), vec![0, 0, 0, 0, 0, 1]);
-        cut.insert((4, 5));
-        assert_eq!(base.patches(&faces, &alive, &cut), vec![0, 0, 1, 0, 2, 3]);
     }
 
     #[test]
