@@ -9,7 +9,7 @@
 //!
 //! Small polygons cut by a few chords (a face of the overlap pass crossed by
 //! one intersection curve, the common case) are split and ear-clipped
-//! instead ([`split_by_chains`], [`ear_clip`]): for five to eight points
+//! instead ([`split_by_chains`], [`triangulate_polygon`]): for five to eight points
 //! spade's bulk load costs more than the whole rest of the cut.
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
