@@ -435,10 +435,10 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
         if splits.iter().all(Vec::is_empty) {
             let local_segs: Vec<[usize; 2]> =
                 segs.iter().map(|(s, _)| s.map(|k| local[&k])).collect();
-            let seen = if flip {
+            let seen: std::borrow::Cow<[[f64; 2]]> = if flip {
                 pts2.iter().map(|p| [-p[0], p[1]]).collect()
             } else {
-                pts2.clone()
+                (&pts2[..]).into()
             };
             let clipped = chains(nb, ids.len(), &local_segs)
                 .and_then(|c| crate::planar::split_by_chains(nb, &c))

@@ -161,7 +161,8 @@ pub(crate) fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2
     o1 * o2 <= 0 && o3 * o4 <= 0
 }
 
-fn point_in_triangle_2d(p: [f64; 2], t: [[f64; 2]; 3]) -> bool {
+/// Whether `p` lies in the closed triangle `t` (exact; either orientation).
+pub(crate) fn point_in_triangle_2d(p: [f64; 2], t: [[f64; 2]; 3]) -> bool {
     let o1 = orient2d_sign(t[0], t[1], p);
     let o2 = orient2d_sign(t[1], t[2], p);
     let o3 = orient2d_sign(t[2], t[0], p);

@@ -232,12 +232,7 @@ fn ear_clip(pts: &[[f64; 2]], poly: &[usize]) -> Option<Vec<[usize; 3]>> {
                 continue;
             }
             let blocked = left.iter().any(|&x| {
-                x != u
-                    && x != v
-                    && x != w
-                    && orient2d_sign(a, b, pts[x]) >= 0
-                    && orient2d_sign(b, c, pts[x]) >= 0
-                    && orient2d_sign(c, a, pts[x]) >= 0
+                x != u && x != v && x != w && crate::geom::point_in_triangle_2d(pts[x], [a, b, c])
             });
             if blocked {
                 continue;
