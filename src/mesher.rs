@@ -20,7 +20,8 @@ use crate::surface::Surface;
 use crate::track::Track;
 use crate::tube::{Ring, Tube};
 
-/// Radii are never below this fraction of the largest coordinate, so the f32
+/// Radii are never below this fraction of the largest coordinate (in the
+/// frame the cell is built in, [`crate::mesh::frame_origin`]), so the f32
 /// output keeps a contour's vertices distinct.
 pub const RELATIVE_RADIUS_FLOOR: f64 = 1e-5;
 
@@ -245,7 +246,9 @@ pub fn resolve_overlaps(mesh: &mut Mesh, face_owner: &[u32]) {
 }
 
 /// The whole construction with its intermediate structures (branches and tubes
-/// with their rings), for inspection and debugging tools.
+/// with their rings), for inspection and debugging tools. For a cell far from
+/// the coordinates' origin the surface's positions are relative to the point
+/// [`crate::mesh::frame_origin`] picks for its bounds.
 ///
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
@@ -412,13 +415,17 @@ pub struct TubeStage {
     /// The filler (index in `fillers`) of each filler part, from
     /// `filler_parts` on: a filler is one part per tube piece.
     pub filler_of_part: Vec<u32>,
+    /// The point the stage is built around: the surface's positions are
+    /// relative to it ([`crate::mesh::frame_origin`]; zero for most cells).
+    pub origin: [f64; 3],
 }
 
 impl TubeStage {
     /// The surface as a mesh, with the part of each face, the first filler
     /// part and the filler of each filler part.
     fn into_mesh(self) -> (Mesh, Vec<u32>, u32, Vec<u32>) {
-        let (mesh, face_owner) = self.surface.into_mesh_with(self.stats, self.owner);
+        let (mut mesh, face_owner) = self.surface.into_mesh_with(self.stats, self.owner);
+        mesh.origin = self.origin;
         (mesh, face_owner, self.filler_parts, self.filler_of_part)
     }
 }
@@ -430,6 +437,15 @@ impl TubeStage {
 pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
     params.validate()?;
     let m = morphology.scaled(params.scale)?;
+    // A cell far from the coordinates' origin is built around its centre, so
+    // the f32 positions keep the precision they have near the origin.
+    let (lo, hi) = m.bounds();
+    let origin = crate::mesh::frame_origin(lo, hi);
+    let m = if origin == [0.0; 3] {
+        m
+    } else {
+        m.translated(origin.map(|c| -c))
+    };
     let geometry = Geometry::new(&m, params);
     let branches = branch::identify(&m, params.angle_threshold);
     let mut stats = BuildStats {
@@ -622,6 +638,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         filler_straight,
         filler_parts: u32::MAX,
         filler_of_part: Vec::new(),
+        origin,
     })
 }
 

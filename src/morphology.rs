@@ -254,6 +254,39 @@ impl Morphology {
         Ok(m)
     }
 
+    /// The morphology moved by `offset` (positions and soma centres; radii
+    /// unchanged).
+    pub fn translated(mut self, offset: [f64; 3]) -> Self {
+        let shift = |p: &mut [f64; 3]| {
+            for a in 0..3 {
+                p[a] += offset[a];
+            }
+        };
+        self.pos.iter_mut().for_each(shift);
+        for t in &mut self.trees {
+            if let Some(s) = &mut t.soma {
+                shift(&mut s.center);
+            }
+        }
+        self
+    }
+
+    /// The box holding every sample's sphere: lowest and highest corner.
+    /// Both are zero for an empty morphology.
+    pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        if self.pos.is_empty() {
+            return ([0.0; 3], [0.0; 3]);
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for (p, &r) in self.pos.iter().zip(&self.radius) {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a] - r);
+                hi[a] = hi[a].max(p[a] + r);
+            }
+        }
+        (lo, hi)
+    }
+
     /// The name used in messages: the file path or `<arrays>`.
     pub fn name(&self) -> &str {
         &self.name

@@ -79,8 +79,10 @@ pub struct Params {
     /// Smallest radius used, in output units (0 = automatic).
     ///
     /// Radii below it are raised to it. Whatever its value, radii are never
-    /// below 1e-5 × the largest coordinate, so f32 output keeps contours
-    /// distinct. Default 0.
+    /// below 1e-5 × the largest coordinate (measured from the point a cell
+    /// far from the origin is built around), so f32 output keeps contours
+    /// distinct.
+    /// Default 0.
     #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MIN_RADIUS, help_heading = "Mesh parameters"))]
     pub min_radius: f64,
     /// Factor applied to coordinates and radii (unit conversion).

@@ -356,6 +356,7 @@ type MeshTuple<'py> = (
     Bound<'py, PyArray2<u32>>,
     Bound<'py, PyArray1<u32>>,
     Bound<'py, PyDict>,
+    (f64, f64, f64),
 );
 
 fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDict>> {
@@ -379,6 +380,7 @@ fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
     let n = mesh.vertices.len();
     let f = mesh.faces.len();
     let stats = stats_dict(py, &mesh.stats)?;
+    let [ox, oy, oz] = mesh.origin;
     let vertices = Array2::from_shape_vec((n, 3), mesh.vertices.into_flattened())
         .map_err(|e| MeshError::new_err(e.to_string()))?
         .into_pyarray(py);
@@ -386,7 +388,7 @@ fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
         .map_err(|e| MeshError::new_err(e.to_string()))?
         .into_pyarray(py);
     let samples = mesh.vertex_sample.into_pyarray(py);
-    Ok((vertices, faces, samples, stats))
+    Ok((vertices, faces, samples, stats, (ox, oy, oz)))
 }
 
 /// Wraps a core mesh into the pure-Python `neuromesh_rs.Mesh` class.
@@ -608,13 +610,15 @@ fn mesh_check_py<'py>(
 
 /// Writes a mesh given as arrays; the extension picks the format.
 #[pyfunction(name = "_mesh_save")]
-#[pyo3(signature = (vertices, faces, path, vertex_sample=None))]
+#[pyo3(signature = (vertices, faces, path, vertex_sample=None, origin=(0.0, 0.0, 0.0)))]
+#[pyo3(text_signature = "(vertices, faces, path, vertex_sample=None, origin=(0.0, 0.0, 0.0))")]
 fn mesh_save_py(
     py: Python<'_>,
     vertices: PyReadonlyArray2<'_, f32>,
     faces: PyReadonlyArray2<'_, u32>,
     path: PathBuf,
     vertex_sample: Option<PyReadonlyArray1<'_, u32>>,
+    origin: (f64, f64, f64),
 ) -> PyResult<()> {
     let v = view(&vertices, &faces, vertex_sample.as_ref())?;
     // The writers take a Mesh; building one copies the arrays once, which is
@@ -624,8 +628,17 @@ fn mesh_save_py(
         faces: v.faces.to_vec(),
         vertex_sample: v.vertex_sample.to_vec(),
         stats: BuildStats::default(),
+        origin: [origin.0, origin.1, origin.2],
     };
     py.detach(|| io::write(&path, &mesh)).map_err(to_py)
+}
+
+/// The origin a mesh spanning the box `lo`..`hi` is stored around
+/// ([`crate::mesh::frame_origin`]).
+#[pyfunction(name = "_frame_origin")]
+fn frame_origin_py(lo: (f64, f64, f64), hi: (f64, f64, f64)) -> (f64, f64, f64) {
+    let [x, y, z] = crate::mesh::frame_origin([lo.0, lo.1, lo.2], [hi.0, hi.1, hi.2]);
+    (x, y, z)
 }
 
 /// Reads an OBJ, PLY or STL file into a `neuromesh_rs.Mesh`.
@@ -641,8 +654,8 @@ fn load_mesh_py(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
 mod native {
     #[pymodule_export]
     use super::{
-        MeshError, MeshFileError, PyMorphology, SwcError, load_mesh_py, mesh_area_py,
-        mesh_check_py, mesh_many_py, mesh_save_py, mesh_swc_py, mesh_volume_py,
+        MeshError, MeshFileError, PyMorphology, SwcError, frame_origin_py, load_mesh_py,
+        mesh_area_py, mesh_check_py, mesh_many_py, mesh_save_py, mesh_swc_py, mesh_volume_py,
     };
 
     #[pymodule_init]

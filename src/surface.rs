@@ -156,6 +156,7 @@ impl Surface {
                 faces,
                 vertex_sample,
                 stats,
+                origin: [0.0; 3],
             },
             per_tri,
         )

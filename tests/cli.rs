@@ -132,6 +132,63 @@ fn mesh_writes_each_format_and_check_reads_it_back() {
     }
 }
 
+#[test]
+fn a_cell_far_from_the_origin_is_written_exactly_and_stl_warns() {
+    // The glial cell's 0.025-unit processes moved 10⁴ units away: written
+    // with its absolute coordinates, valid when read back; STL is f32 only.
+    let src = std::fs::read_to_string("tests/data/real/glia_type7_kannan_P1CS-31.CNG.swc")
+        .expect("reads");
+    let moved: String = src
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            if l.starts_with('#') || f.len() < 7 {
+                return format!("{l}\n");
+            }
+            let c = |i: usize, d: f64| f[i].parse::<f64>().unwrap() + d;
+            format!(
+                "{} {} {} {} {} {} {}\n",
+                f[0],
+                f[1],
+                c(2, 12345.678),
+                c(3, -23456.789),
+                c(4, 5432.1),
+                f[5],
+                f[6]
+            )
+        })
+        .collect();
+    let swc = tmp("far.swc");
+    std::fs::write(&swc, moved).expect("writes");
+    for ext in ["obj", "ply", "stl"] {
+        let p = tmp(&format!("far.{ext}"));
+        let ps = p.to_str().unwrap();
+        let out = neuromesh(&["mesh", swc.to_str().unwrap(), "-o", ps]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let warned = text(&out.stderr).contains("STL stores f32 coordinates");
+        assert_eq!(warned, ext == "stl", "{ext}: {}", text(&out.stderr));
+        if ext == "obj" {
+            let obj = std::fs::read_to_string(&p).expect("reads");
+            let x: f64 = obj
+                .lines()
+                .find(|l| l.starts_with("v "))
+                .expect("a vertex")
+                .split_whitespace()
+                .nth(1)
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!((x - 12345.678).abs() < 100.0, "absolute coordinates: {x}");
+        }
+        if ext != "stl" {
+            let out = neuromesh(&["check", ps, "--json"]);
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            let s = text(&out.stdout);
+            assert!(s.contains("\"valid\":true"), "{ext}: {s}");
+        }
+    }
+}
+
 /// A box as OBJ text with optional faults, for `check`.
 fn box_obj(drop_last: bool, flip: bool, overlap: bool) -> String {
     let mut v: Vec<[f32; 3]> = (0..8)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -59,12 +60,20 @@ class MeshReport:
 
 
 class Mesh:
-    """A triangle mesh: float32 vertices ``(N, 3)`` and uint32 faces ``(M, 3)``.
+    """A triangle mesh: vertices ``(N, 3)`` and uint32 faces ``(M, 3)``.
 
     Faces wind counter-clockwise seen from outside. ``vertex_sample`` (uint32,
     ``(N,)``) holds the morphology sample index each vertex was made from, or
     is ``None`` for meshes built from arrays or read from OBJ/STL. The arrays are
     read-only views of the data the Rust core produced (no copy).
+
+    Positions are stored as float32 relative to ``origin``. For most cells
+    ``origin`` is ``(0, 0, 0)`` and ``vertices`` is that float32 array. A cell
+    far from the coordinates' origin compared with its size (atlas coordinates
+    such as MouseLight's, ~10⁴ µm) is meshed around a point near its centre,
+    since float32 positions at 10⁴ would round a thin neurite's triangles into
+    each other; ``vertices`` then gives float64 absolute positions
+    (``local_vertices + origin``) and ``local_vertices`` the float32 ones.
 
     Any mesh can be wrapped, for example a trimesh one, to use the checks:
 
@@ -76,7 +85,7 @@ class Mesh:
     (0.166667, True)
     """
 
-    __slots__ = ("_faces", "_stats", "_vertex_sample", "_vertices")
+    __slots__ = ("_absolute", "_faces", "_origin", "_stats", "_vertex_sample", "_vertices")
 
     def __init__(
         self,
@@ -84,7 +93,14 @@ class Mesh:
         faces: ArrayLike,
         vertex_sample: ArrayLike | None = None,
     ) -> None:
-        v = np.ascontiguousarray(vertices, dtype=np.float32)
+        v64 = np.asarray(vertices, dtype=np.float64)
+        origin = (0.0, 0.0, 0.0)
+        if v64.ndim == 2 and v64.shape[1] == 3 and len(v64) and np.isfinite(v64).all():
+            origin = _native._frame_origin(tuple(v64.min(axis=0)), tuple(v64.max(axis=0)))
+        if origin == (0.0, 0.0, 0.0):
+            v = np.ascontiguousarray(vertices, dtype=np.float32)
+        else:
+            v = np.ascontiguousarray(v64 - np.asarray(origin), dtype=np.float32)
         f_in = np.asarray(faces)
         if f_in.size and (not np.issubdtype(f_in.dtype, np.integer) or f_in.min() < 0):
             raise ValueError("faces must hold non-negative integer vertex indices")
@@ -100,7 +116,7 @@ class Mesh:
             s = np.ascontiguousarray(vertex_sample, dtype=np.uint32)
             if s.shape != (len(v),):
                 raise ValueError(f"vertex_sample must have shape ({len(v)},), got {s.shape}")
-        self._set(v, f, s, {})
+        self._set(v, f, s, {}, origin)
 
     @classmethod
     def _from_native(
@@ -109,10 +125,11 @@ class Mesh:
         faces: NDArray[np.uint32],
         vertex_sample: NDArray[np.uint32],
         stats: dict[str, int],
+        origin: tuple[float, float, float],
     ) -> Mesh:
         mesh = cls.__new__(cls)
         sample = vertex_sample if len(vertex_sample) == len(vertices) and len(vertices) else None
-        mesh._set(vertices, faces, sample, stats)
+        mesh._set(vertices, faces, sample, stats, origin)
         return mesh
 
     def _set(
@@ -121,6 +138,7 @@ class Mesh:
         faces: NDArray[np.uint32],
         vertex_sample: NDArray[np.uint32] | None,
         stats: dict[str, int],
+        origin: tuple[float, float, float],
     ) -> None:
         for a in (vertices, faces, vertex_sample):
             if a is not None:
@@ -129,11 +147,32 @@ class Mesh:
         self._faces = faces
         self._vertex_sample = vertex_sample
         self._stats = dict(stats)
+        self._origin = (float(origin[0]), float(origin[1]), float(origin[2]))
+        self._absolute: NDArray[np.float64] | None = None
 
     @property
-    def vertices(self) -> NDArray[np.float32]:
-        """Vertex positions, float32, shape ``(N, 3)``, read-only."""
+    def vertices(self) -> NDArray[np.float32] | NDArray[np.float64]:
+        """Vertex positions, shape ``(N, 3)``, read-only: float32, or float64
+        (``local_vertices + origin``) when ``origin`` is not zero."""
+        if self._origin == (0.0, 0.0, 0.0):
+            return self._vertices
+        if self._absolute is None:
+            a = self._vertices.astype(np.float64) + np.asarray(self._origin)
+            a.setflags(write=False)
+            self._absolute = a
+        return self._absolute
+
+    @property
+    def local_vertices(self) -> NDArray[np.float32]:
+        """Vertex positions relative to ``origin``, float32, read-only."""
         return self._vertices
+
+    @property
+    def origin(self) -> tuple[float, float, float]:
+        """The point ``local_vertices`` are measured from: ``(0, 0, 0)``
+        unless the mesh lies far from the coordinates' origin compared with
+        its size."""
+        return self._origin
 
     @property
     def faces(self) -> NDArray[np.uint32]:
@@ -182,7 +221,10 @@ class Mesh:
 
         PLY keeps ``vertex_sample`` as a per-vertex ``sample`` property. The file is
         written to a temporary name and renamed, so a failed write leaves nothing
-        half-written.
+        half-written. A mesh with a non-zero ``origin`` is written with the origin
+        added, in double precision to OBJ and PLY; STL holds only float32, so
+        saving such a mesh as STL warns that thin neurites may be rounded into
+        each other.
 
         Raises
         ------
@@ -191,7 +233,15 @@ class Mesh:
         OSError
             When the file cannot be written.
         """
-        _native._mesh_save(self._vertices, self._faces, os.fspath(path), self._vertex_sample)
+        target = os.fspath(path)
+        if self._origin != (0.0, 0.0, 0.0) and target.lower().endswith(".stl"):
+            warnings.warn(
+                f"{target}: STL stores float32 coordinates, which round this mesh "
+                f"(origin {self._origin}) more coarsely than it was built; "
+                "save as .obj or .ply to keep it exact",
+                stacklevel=2,
+            )
+        _native._mesh_save(self._vertices, self._faces, target, self._vertex_sample, self._origin)
 
     def to_trimesh(self) -> Any:
         """The mesh as a ``trimesh.Trimesh`` (requires ``pip install trimesh``)."""
@@ -199,7 +249,7 @@ class Mesh:
             import trimesh
         except ImportError as e:  # pragma: no cover - depends on the environment
             raise ImportError("to_trimesh() needs trimesh: pip install trimesh") from e
-        return trimesh.Trimesh(vertices=self._vertices, faces=self._faces, process=False)
+        return trimesh.Trimesh(vertices=self.vertices, faces=self._faces, process=False)
 
     def __len__(self) -> int:
         return int(self._faces.shape[0])
@@ -213,7 +263,9 @@ class Mesh:
             "faces": np.array(self._faces),
             "vertex_sample": None if self._vertex_sample is None else np.array(self._vertex_sample),
             "stats": self._stats,
+            "origin": self._origin,
         }
 
     def __setstate__(self, state: dict[str, Any]) -> None:
-        self._set(state["vertices"], state["faces"], state["vertex_sample"], state["stats"])
+        origin = state.get("origin", (0.0, 0.0, 0.0))
+        self._set(state["vertices"], state["faces"], state["vertex_sample"], state["stats"], origin)

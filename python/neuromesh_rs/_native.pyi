@@ -20,6 +20,7 @@ __all__ = [
     "_mesh_area",
     "_mesh_check",
     "_mesh_save",
+    "_frame_origin",
     "_mesh_volume",
     "load_mesh",
     "mesh_many",
@@ -159,4 +160,8 @@ def _mesh_save(
     faces: NDArray[np.uint32],
     path: str | os.PathLike[str],
     vertex_sample: NDArray[np.uint32] | None = None,
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
 ) -> None: ...
+def _frame_origin(
+    lo: tuple[float, float, float], hi: tuple[float, float, float]
+) -> tuple[float, float, float]: ...

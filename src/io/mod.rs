@@ -88,6 +88,27 @@ pub fn write(path: impl AsRef<Path>, mesh: &Mesh) -> Result<()> {
     write_as(path, mesh, format)
 }
 
+/// Why writing `mesh` as `format` loses precision, if it does: binary STL
+/// holds f32 coordinates only, so a mesh with an origin
+/// ([`Mesh::origin`]) is rounded there to steps that can fold its thinnest
+/// triangles into each other. OBJ and PLY keep it.
+pub fn precision_warning(mesh: &Mesh, format: Format) -> Option<String> {
+    if format != Format::Stl || mesh.origin == [0.0; 3] {
+        return None;
+    }
+    let far = (0..3)
+        .map(|a| {
+            mesh.origin[a].abs()
+                + mesh.vertices.iter().map(|v| v[a].abs()).fold(0.0, f32::max) as f64
+        })
+        .fold(0.0, f64::max);
+    // Half the spacing of f32 values at `far`: 24 significant bits.
+    let step = far * f64::from(f32::EPSILON) / 2.0;
+    Some(format!(
+        "STL stores f32 coordinates: {far:.0} units from the origin they are rounded to          {step:.1e}, which can make thin neurites' triangles cross; write .obj or .ply          (double precision for this mesh) to keep them exact"
+    ))
+}
+
 /// Writes `mesh` to `path` in `format`, atomically (temporary file + rename).
 ///
 /// # Errors
@@ -137,10 +158,10 @@ pub fn read(path: impl AsRef<Path>) -> Result<Mesh> {
 
 /// Merges vertices with bit-identical positions and renumbers the faces.
 pub(crate) fn weld(
-    vertices: Vec<[f32; 3]>,
+    vertices: Vec<[f64; 3]>,
     faces: Vec<[u32; 3]>,
-) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(vertices.len());
+) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let mut index: HashMap<[u64; 3], u32> = HashMap::with_capacity(vertices.len());
     let mut out = Vec::with_capacity(vertices.len());
     let remap: Vec<u32> = vertices
         .iter()

@@ -12,7 +12,8 @@ const LINES_PER_TASK: usize = 1 << 15;
 
 /// Writes `mesh` as OBJ text. Floats use the shortest form that reads back as
 /// the same f32 (ryu; small and large values in exponent form such as
-/// `1.5E-7`, which every OBJ reader accepts).
+/// `1.5E-7`, which every OBJ reader accepts); for a mesh with an origin
+/// ([`Mesh::origin`]), the same for the f64 sum of origin and vertex.
 ///
 /// Formatting text is most of the cost of an OBJ file (it took longer than
 /// meshing), so blocks of lines are formatted in parallel and written in
@@ -28,16 +29,15 @@ pub fn write_obj(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
         mesh.vertices.len(),
         mesh.faces.len()
     )?;
-    write_blocks(w, &mesh.vertices, |out, v| {
-        let mut f = ryu::Buffer::new();
-        out.extend_from_slice(b"v ");
-        out.extend_from_slice(f.format_finite(v[0]).as_bytes());
-        out.push(b' ');
-        out.extend_from_slice(f.format_finite(v[1]).as_bytes());
-        out.push(b' ');
-        out.extend_from_slice(f.format_finite(v[2]).as_bytes());
-        out.push(b'\n');
-    })?;
+    let o = mesh.origin;
+    if o == [0.0; 3] {
+        write_blocks(w, &mesh.vertices, |out, v| push_vertex(out, *v))?;
+    } else {
+        // The origin added in f64 keeps the local frame's precision.
+        write_blocks(w, &mesh.vertices, |out, v| {
+            push_vertex(out, [0, 1, 2].map(|a| o[a] + f64::from(v[a])));
+        })?;
+    }
     write_blocks(w, &mesh.faces, |out, f| {
         out.extend_from_slice(b"f ");
         push_u32(out, f[0] + 1);
@@ -47,6 +47,18 @@ pub fn write_obj(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
         push_u32(out, f[2] + 1);
         out.push(b'\n');
     })
+}
+
+/// Appends a `v x y z` line.
+fn push_vertex<F: ryu::Float>(out: &mut Vec<u8>, v: [F; 3]) {
+    let mut f = ryu::Buffer::new();
+    out.extend_from_slice(b"v ");
+    out.extend_from_slice(f.format_finite(v[0]).as_bytes());
+    out.push(b' ');
+    out.extend_from_slice(f.format_finite(v[1]).as_bytes());
+    out.push(b' ');
+    out.extend_from_slice(f.format_finite(v[2]).as_bytes());
+    out.push(b'\n');
 }
 
 /// Formats `items` a line each, tasks of [`LINES_PER_TASK`] lines in parallel,
@@ -104,11 +116,11 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh> {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| Error::mesh_file(path, 0, format!("not a valid OBJ file: {e}")))?;
-    let mut vertices = Vec::new();
+    let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut faces = Vec::new();
     for model in &models {
-        let offset = vertices.len() as u32;
-        vertices.extend(
+        let offset = positions.len() as u32;
+        positions.extend(
             model
                 .mesh
                 .positions
@@ -124,13 +136,9 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh> {
         );
     }
     if models.len() > 1 {
-        (vertices, faces) = super::weld(vertices, faces);
+        (positions, faces) = super::weld(positions, faces);
     }
-    Ok(Mesh {
-        vertices,
-        faces,
-        ..Mesh::default()
-    })
+    Mesh::from_positions(&positions, faces).map_err(|e| Error::mesh_file(path, 0, e.to_string()))
 }
 
 #[cfg(test)]

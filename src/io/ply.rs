@@ -9,16 +9,21 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 
-/// Writes `mesh` as binary little-endian PLY.
+/// Writes `mesh` as binary little-endian PLY: float positions, or double
+/// ones with the origin added for a mesh with an origin ([`Mesh::origin`]).
 ///
 /// # Errors
 /// Whatever the writer returns.
 pub fn write_ply(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     let labelled = mesh.vertex_sample.len() == mesh.vertices.len() && !mesh.vertices.is_empty();
+    // A mesh with an origin is written in double precision with the origin
+    // added: f32 would round away the detail the local frame kept.
+    let double = mesh.origin != [0.0; 3];
+    let kind = if double { "double" } else { "float" };
     write!(
         w,
         "ply\nformat binary_little_endian 1.0\ncomment neuromesh {}\nelement vertex {}\n\
-         property float x\nproperty float y\nproperty float z\n",
+         property {kind} x\nproperty {kind} y\nproperty {kind} z\n",
         env!("CARGO_PKG_VERSION"),
         mesh.vertices.len()
     )?;
@@ -32,8 +37,15 @@ pub fn write_ply(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     )?;
     let mut buf = Vec::with_capacity(1 << 16);
     for (i, v) in mesh.vertices.iter().enumerate() {
-        for c in v {
-            buf.extend_from_slice(&c.to_le_bytes());
+        if double {
+            for a in 0..3 {
+                let c = mesh.origin[a] + f64::from(v[a]);
+                buf.extend_from_slice(&c.to_le_bytes());
+            }
+        } else {
+            for c in v {
+                buf.extend_from_slice(&c.to_le_bytes());
+            }
         }
         if labelled {
             buf.extend_from_slice(&mesh.vertex_sample[i].to_le_bytes());
@@ -231,6 +243,7 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
         enc,
     };
     let mut mesh = Mesh::default();
+    let mut positions: Vec<[f64; 3]> = Vec::new();
     for el in &elements {
         let is_vertex = el.name == "vertex";
         let is_face = el.name == "face";
@@ -249,7 +262,7 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
                     format!("file ends inside {} {row} of {}", el.name, el.count),
                 )
             };
-            let mut pos = [0f32; 3];
+            let mut pos = [0f64; 3];
             let mut sample = None;
             for (pi, p) in el.props.iter().enumerate() {
                 if let Some(ct) = p.list {
@@ -271,7 +284,7 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
                     let v = body.next(p.value).ok_or_else(truncated)?;
                     if is_vertex {
                         if let Some(a) = xyz.iter().position(|&x| x == Some(pi)) {
-                            pos[a] = v as f32;
+                            pos[a] = v;
                         }
                         if sample_prop == Some(pi) {
                             sample = Some(v as u32);
@@ -280,13 +293,18 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
                 }
             }
             if is_vertex {
-                mesh.vertices.push(pos);
+                positions.push(pos);
                 if let Some(s) = sample {
                     mesh.vertex_sample.push(s);
                 }
             }
         }
     }
+    // Positions are read in f64 and stored around an origin near them, so a
+    // double-precision file far from the coordinates' origin keeps its detail.
+    let read = Mesh::from_positions(&positions, Vec::new()).map_err(|e| bad(0, e.to_string()))?;
+    mesh.vertices = read.vertices;
+    mesh.origin = read.origin;
     Ok(mesh)
 }
 

@@ -1,6 +1,8 @@
 //! STL: written binary (80-byte header, facet normals, no attributes); read
 //! binary or ASCII, with vertices welded by exact position since STL does not
-//! share them.
+//! share them. Binary STL holds only f32: a mesh with an origin
+//! ([`Mesh::origin`]) is written with the origin added and rounded, so a cell
+//! far from the coordinates' origin loses precision there (use OBJ or PLY).
 
 use std::io::{self, Write};
 use std::path::Path;
@@ -37,7 +39,9 @@ pub fn write_stl(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
             buf.extend_from_slice(&c.to_le_bytes());
         }
         for k in f {
-            for c in mesh.vertices[*k as usize] {
+            let v = mesh.vertices[*k as usize];
+            for a in 0..3 {
+                let c = (mesh.origin[a] + f64::from(v[a])) as f32;
                 buf.extend_from_slice(&c.to_le_bytes());
             }
         }
@@ -66,7 +70,7 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
                 let at = 12 + 12 * k;
                 let c = |i: usize| {
                     let b = &tri[at + 4 * i..at + 4 * i + 4];
-                    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+                    f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                 };
                 vertices.push([c(0), c(1), c(2)]);
             }
@@ -75,7 +79,7 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
         for (i, line) in String::from_utf8_lossy(bytes).lines().enumerate() {
             let mut words = line.split_whitespace();
             if words.next() == Some("vertex") {
-                let v: Vec<f32> = words.filter_map(|w| w.parse().ok()).collect();
+                let v: Vec<f64> = words.filter_map(|w| w.parse().ok()).collect();
                 if v.len() != 3 {
                     return Err(Error::mesh_file(
                         path,
@@ -107,11 +111,7 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
         .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
         .collect();
     let (vertices, faces) = super::weld(vertices, faces);
-    Ok(Mesh {
-        vertices,
-        faces,
-        ..Mesh::default()
-    })
+    Mesh::from_positions(&vertices, faces).map_err(|e| Error::mesh_file(path, 0, e.to_string()))
 }
 
 #[cfg(test)]

@@ -97,3 +97,28 @@ def test_to_trimesh(y_swc: Path) -> None:
     t = m.to_trimesh()
     assert isinstance(t, trimesh.Trimesh)
     assert len(t.faces) == len(m.faces)
+
+
+def test_a_cell_far_from_the_origin_keeps_its_precision(small_cell: Path, tmp_path: Path) -> None:
+    near = neuromesh_rs.Morphology.from_swc(small_cell)
+    shift = np.array([12345.678, -23456.789, 5432.1])
+    far = neuromesh_rs.Morphology.from_arrays(near.ids, near.types, near.xyz + shift, near.radii, near.parents)
+    a, b = near.mesh(), far.mesh()
+    assert a.origin == (0.0, 0.0, 0.0) and a.vertices.dtype == np.float32
+    assert b.origin != (0.0, 0.0, 0.0)
+    assert b.vertices.dtype == np.float64 and b.local_vertices.dtype == np.float32
+    np.testing.assert_allclose(b.vertices, b.local_vertices + np.array(b.origin))
+    assert b.check(far).valid
+    assert abs(b.area / a.area - 1) < 1e-3 and abs(b.volume / a.volume - 1) < 1e-3
+    np.testing.assert_allclose(b.vertices.min(axis=0), a.vertices.min(axis=0) + shift, atol=1e-3)
+    for ext in ("obj", "ply"):
+        b.save(tmp_path / f"far.{ext}")
+        back = neuromesh_rs.load_mesh(tmp_path / f"far.{ext}")
+        assert back.origin != (0.0, 0.0, 0.0) and back.check().valid
+        np.testing.assert_allclose(np.sort(back.vertices, axis=0), np.sort(b.vertices, axis=0), atol=1e-6)
+    with pytest.warns(UserWarning, match="STL stores float32"):
+        b.save(tmp_path / "far.stl")
+    # Arrays given in float64 far away are stored around their centre too.
+    wrapped = neuromesh_rs.Mesh(b.vertices, b.faces)
+    assert wrapped.origin != (0.0, 0.0, 0.0) and wrapped.check().valid
+    assert pickle.loads(pickle.dumps(b)).origin == b.origin

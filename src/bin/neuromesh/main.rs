@@ -133,6 +133,9 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
             let meshed = start.elapsed();
             io::write(&output, &mesh)?;
+            if let Some(why) = io::precision_warning(&mesh, io::Format::from_path(&output)?) {
+                eprintln!("warning: {}: {why}", output.display());
+            }
             if !quiet {
                 println!(
                     "wrote {}: {} vertices, {} triangles ({:.1} ms meshing, {:.1} ms total)",
