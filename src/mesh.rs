@@ -265,10 +265,10 @@ pub fn bounds(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
 
 /// The origin to store a mesh spanning the box `lo`..`hi` around.
 ///
-/// Zero when the box reaches within twice its half-size of the coordinates'
-/// origin: f32 positions there lose at most one bit to a local frame, and the
-/// files of most tracings (centred on the soma, or starting at 0) keep their
-/// exact f32 coordinates. Otherwise the box's centre, rounded to a multiple
+/// Zero when no coordinate of the box exceeds three times its largest
+/// half-size in absolute value: f32 positions there lose less than two
+/// bits to a local frame, and the files of most tracings (centred on the
+/// soma, or starting at 0) keep their exact f32 coordinates. Otherwise the box's centre, rounded to a multiple
 /// of the largest power of two not above its half-size, so the origin is
 /// exact and small-digit in binary and no position moves by more than half
 /// that step from where a centred frame would put it.
@@ -278,7 +278,7 @@ pub fn frame_origin(lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
     let far = (0..3)
         .map(|a| lo[a].abs().max(hi[a].abs()))
         .fold(0.0, f64::max);
-    if !finite || far <= 2.0 * half {
+    if !finite || far <= 3.0 * half {
         return [0.0; 3];
     }
     // A point-sized box still gets a step, from its distance to the origin.

@@ -51,9 +51,24 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
+    params.validate()?;
+    // A union of round cones that is one star-shaped blob (radius codes
+    // swelling every sphere past the cell) is meshed whole ([`crate::blob`]).
+    let origin = frame_origin_of(morphology, params.scale);
+    if let Some(mut mesh) = crate::blob::mesh(morphology, params.scale, origin) {
+        mesh.origin = origin;
+        return Ok(mesh);
+    }
     finish(construct(morphology, params)?, || {
         construct(morphology, params)
     })
+}
+
+/// The point a morphology scaled by `scale` is built around
+/// ([`crate::mesh::frame_origin`] of the box of its spheres).
+pub fn frame_origin_of(morphology: &Morphology, scale: f64) -> [f64; 3] {
+    let (lo, hi) = morphology.bounds();
+    crate::mesh::frame_origin(lo.map(|c| c * scale), hi.map(|c| c * scale))
 }
 
 /// Step 6 on a constructed stage: the mesh, with the overlaps resolved and
@@ -439,8 +454,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     let m = morphology.scaled(params.scale)?;
     // A cell far from the coordinates' origin is built around its centre, so
     // the f32 positions keep the precision they have near the origin.
-    let (lo, hi) = m.bounds();
-    let origin = crate::mesh::frame_origin(lo, hi);
+    let origin = frame_origin_of(morphology, params.scale);
     let m = if origin == [0.0; 3] {
         m
     } else {

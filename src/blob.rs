@@ -1,0 +1,314 @@
+//! Cells whose union of round cones is one star-shaped blob, meshed as a
+//! radial surface around the centre of their largest sphere.
+//!
+//! Some platforms write codes into the SWC radius column: the CAR platform's
+//! files hold radii of 40 to 6,910 on cells 200 units across
+//! ([`crate::plausibility`]). Their union of round cones is then a blob a few
+//! times wider than the cell, and the paper's tubes cannot follow it: each
+//! contour is swallowed by its neighbours, and the tubes that remain end in
+//! flat caps where the union has half of a sphere (both CAR files of the
+//! corpus meshed at half of its volume).
+//!
+//! Such a union is star-shaped. Let the largest sphere of the skeleton have
+//! centre `c` and radius `R`. A round cone with both end spheres inside it
+//! lies inside it (it is their convex hull); every other round cone of these
+//! cells has an end sphere that contains `c`, and so contains `c` itself. A
+//! union of convex sets that all contain `c` meets every ray from `c` in one
+//! segment from `c`, so its surface is the radial graph `c + ρ(u)·u`, where
+//! `ρ(u)` is the farthest exit along `u` over the sphere and those cones.
+//! When every cone passes this test the cell is meshed that way: the soma's
+//! sphere point set and triangulation ([`crate::soma`]), with each unit
+//! direction moved out to `ρ(u)`. A radial graph over a triangulated sphere
+//! is closed and cannot cross itself as long as every triangle still faces
+//! away from `c`, which is checked; when one does not (the surface turns too
+//! fast between neighbouring directions) the cell goes the usual way.
+//!
+//! Ordinary cells never pass the test: a tip far from the soma has neither
+//! end inside the largest sphere nor containing its centre. A cell whose
+//! largest sphere is its soma goes the usual way too, so somas keep the
+//! paper's construction (section 3.3).
+
+use glam::DVec3;
+
+use crate::mesh::{BuildStats, Mesh};
+use crate::morphology::Morphology;
+use crate::soma::{self, Sphere};
+use crate::surface::Surface;
+use crate::union::{RoundCone, skeleton_primitives};
+
+/// Angular spacing of the directions: a 160-gon on a great circle, about
+/// 9,400 directions and 19,000 triangles.
+const DELTA: f64 = std::f64::consts::TAU / 160.0;
+
+/// An end sphere contains the centre when the centre is this fraction of its
+/// radius inside it, so `ρ` stays clear of zero.
+const INSIDE: f64 = 0.99;
+
+/// Golden-section steps refining where along a cone a ray leaves it last.
+const REFINE_STEPS: usize = 24;
+
+/// The blob's centre, radius and the cones that reach out of its largest
+/// sphere (with the sample each one labels its vertices with), if the
+/// morphology's union of round cones is star-shaped around that centre as
+/// the module describes.
+struct Blob {
+    center: DVec3,
+    radius: f64,
+    label: u32,
+    /// The cones measured from the centre, farthest-reaching first, each
+    /// with its reach ([`reach`]) and the sample it labels vertices with.
+    cones: Vec<(RoundCone, f64, u32)>,
+}
+
+/// The mesh of `morphology` (scaled by `scale`, stored around `origin`) as a
+/// radial surface, when its union of round cones is a star-shaped blob
+/// around its largest sphere, which is not a soma; `None` otherwise.
+pub fn mesh(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Mesh> {
+    let blob = find(morphology, scale, origin)?;
+    let mut surface = Surface::with_capacity(10_000);
+    let unit = Sphere {
+        center: DVec3::ZERO,
+        radius: 1.0,
+    };
+    soma::build(&mut surface, &unit, &[], DELTA, blob.label).ok()?;
+    // Flat triangles between points of a surface cut off a shell whose
+    // thickness grows as the spacing squared; the soma's correction for it.
+    let grow = soma::mesh_radius(1.0, DELTA);
+    let reach: Vec<(f64, u32)> = crate::parallel::map(&surface.pos, |p| {
+        let u = p.normalize();
+        farthest_exit(&blob, u)
+    });
+    for (v, &(rho, label)) in reach.iter().enumerate() {
+        let u = surface.pos[v].normalize();
+        surface.pos[v] = blob.center + u * (rho * grow);
+        surface.label[v] = label;
+    }
+    let faces_out = surface.tris.iter().all(|t| {
+        let [a, b, c] = t.map(|k| surface.pos[k as usize] - blob.center);
+        a.dot(b.cross(c)) > 0.0
+    });
+    faces_out.then(|| surface.into_mesh(BuildStats::default()))
+}
+
+/// The blob of `morphology`, if it is one (see the module documentation).
+fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
+    let somas = morphology
+        .trees()
+        .iter()
+        .filter(|t| t.soma.is_some())
+        .count();
+    let shift = DVec3::from_array(origin);
+    let cones: Vec<RoundCone> = skeleton_primitives(morphology)
+        .into_iter()
+        .map(|c| RoundCone {
+            a: c.a * scale - shift,
+            ra: c.ra * scale,
+            b: c.b * scale - shift,
+            rb: c.rb * scale,
+        })
+        .collect();
+    // The largest sphere: not a soma's (the first `somas` primitives).
+    let (mut best, mut at, mut center) = (0usize, f64::NEG_INFINITY, DVec3::ZERO);
+    for (i, c) in cones.iter().enumerate() {
+        for (p, r) in [(c.a, c.ra), (c.b, c.rb)] {
+            if r > at {
+                (best, at, center) = (i, r, p);
+            }
+        }
+    }
+    if best < somas || !(at.is_finite() && at > 0.0) {
+        return None;
+    }
+    let samples = primitive_samples(morphology);
+    let label = samples.get(best).copied().unwrap_or(0);
+    let inside = |p: DVec3, r: f64| p.distance(center) + r <= at;
+    let holds_center = |p: DVec3, r: f64| p.distance(center) <= INSIDE * r;
+    let mut out = Vec::new();
+    for (i, c) in cones.into_iter().enumerate() {
+        if inside(c.a, c.ra) && inside(c.b, c.rb) {
+            continue;
+        }
+        if !(holds_center(c.a, c.ra) || holds_center(c.b, c.rb)) {
+            return None;
+        }
+        out.push((c, samples.get(i).copied().unwrap_or(0)));
+    }
+    // Measured from the centre, farthest-reaching first, so most rays stop
+    // after a few cones.
+    let mut out: Vec<(RoundCone, f64, u32)> = out
+        .into_iter()
+        .map(|(c, sample)| {
+            let c = RoundCone {
+                a: c.a - center,
+                b: c.b - center,
+                ..c
+            };
+            (c, reach(&c), sample)
+        })
+        .collect();
+    out.sort_by(|x, y| y.1.total_cmp(&x.1));
+    Some(Blob {
+        center,
+        radius: at,
+        label,
+        cones: out,
+    })
+}
+
+/// The sample each primitive of [`skeleton_primitives`] labels its vertices
+/// with: a soma's first sample, else the child end (the primitives after the
+/// somas follow the samples that have a parent, or are lone roots, in sample
+/// order).
+fn primitive_samples(morphology: &Morphology) -> Vec<u32> {
+    let soma = morphology.soma_mask();
+    let parents = morphology.parents();
+    let somas = morphology
+        .trees()
+        .iter()
+        .filter_map(|t| t.soma.as_ref())
+        .map(|s| s.samples.first().copied().unwrap_or(0));
+    let rest = (0..morphology.len() as u32).filter(|&i| {
+        let p = parents[i as usize];
+        if p == crate::morphology::NO_PARENT {
+            !soma[i as usize]
+        } else {
+            !(soma[i as usize] && soma[p as usize])
+        }
+    });
+    somas.chain(rest).collect()
+}
+
+/// How far from the centre any point of the cone (measured from it) lies:
+/// the farther end's distance plus its radius (distance plus radius is
+/// convex along the cone).
+fn reach(cone: &RoundCone) -> f64 {
+    (cone.a.length() + cone.ra).max(cone.b.length() + cone.rb)
+}
+
+/// `ρ(u)` and the sample that gives it: the farthest exit along `u` from the
+/// centre over the largest sphere and the cones.
+fn farthest_exit(blob: &Blob, u: DVec3) -> (f64, u32) {
+    let (mut best, mut label) = (blob.radius, blob.label);
+    for (cone, reach, sample) in &blob.cones {
+        if *reach <= best {
+            break;
+        }
+        // A ball's exit along `u` is at most `u·q + r` (q its centre); along
+        // the cone that bound is linear, so its ends hold it. Cones behind
+        // the ray stop here.
+        if u.dot(cone.a) + cone.ra <= best && u.dot(cone.b) + cone.rb <= best {
+            continue;
+        }
+        let t = cone_exit(cone, u);
+        if t > best {
+            (best, label) = (t, *sample);
+        }
+    }
+    (best, label)
+}
+
+/// The last point along the ray `t·u` from the centre inside the ball of
+/// the cone at `s` (centre and radius interpolated), or −∞ when the ray's
+/// line misses it.
+fn ball_exit(cone: &RoundCone, u: DVec3, s: f64) -> f64 {
+    let q = cone.a.lerp(cone.b, s);
+    let r = cone.ra + (cone.rb - cone.ra) * s;
+    let along = u.dot(q);
+    let disc = along * along - q.length_squared() + r * r;
+    if disc < 0.0 {
+        f64::NEG_INFINITY
+    } else {
+        along + disc.sqrt()
+    }
+}
+
+/// The last point along the ray `t·u` inside the round cone: the largest
+/// ball exit over the cone's balls. The set of (s, t) with `c + t·u` in the
+/// ball at `s` is convex, so the exit is concave in `s` where the line meets
+/// the ball: the better end, then a golden-section search between the ends.
+fn cone_exit(cone: &RoundCone, u: DVec3) -> f64 {
+    let (ea, eb) = (ball_exit(cone, u, 0.0), ball_exit(cone, u, 1.0));
+    let ends = ea.max(eb);
+    if cone.a.distance(cone.b) <= (cone.ra - cone.rb).abs() {
+        // One end's ball holds the other: the cone is that ball.
+        return ends;
+    }
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut x1 = hi - g * (hi - lo);
+    let mut x2 = lo + g * (hi - lo);
+    let (mut f1, mut f2) = (ball_exit(cone, u, x1), ball_exit(cone, u, x2));
+    for _ in 0..REFINE_STEPS {
+        if f1 < f2 {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = ball_exit(cone, u, x2);
+        } else {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = ball_exit(cone, u, x1);
+        }
+    }
+    ends.max(f1).max(f2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell(rows: &[([f64; 3], f64, i64)]) -> Morphology {
+        let ids: Vec<i64> = (1..=rows.len() as i64).collect();
+        let types = vec![3; rows.len()];
+        let xyz: Vec<[f64; 3]> = rows.iter().map(|r| r.0).collect();
+        let radii: Vec<f64> = rows.iter().map(|r| r.1).collect();
+        let parents: Vec<i64> = rows.iter().map(|r| r.2).collect();
+        Morphology::from_arrays(&ids, &types, &xyz, &radii, &parents).expect("valid")
+    }
+
+    #[test]
+    fn a_swollen_chain_is_its_union_as_one_closed_surface() {
+        // Radii far beyond the segment lengths, as radius codes give, and a
+        // thin tail inside the largest ball.
+        let m = cell(&[
+            ([0.0, 0.0, 0.0], 40.0, -1),
+            ([3.0, 0.0, 0.0], 100.0, 1),
+            ([6.0, 1.0, 0.0], 100.0, 2),
+            ([9.0, 2.0, 1.0], 80.0, 3),
+            ([12.0, 2.0, 1.0], 5.0, 4),
+            ([30.0, 2.0, 1.0], 5.0, 5),
+        ]);
+        let mesh = mesh(&m, 1.0, [0.0; 3]).expect("a blob");
+        let r = mesh.check();
+        assert!(r.is_valid(), "{r}");
+        assert_eq!(r.components, 1);
+        let u = crate::union::measure_morphology(&m);
+        let (ea, ev) = (mesh.area() / u.area - 1.0, mesh.volume() / u.volume - 1.0);
+        assert!(
+            ea.abs() < 0.01 && ev.abs() < 0.01,
+            "area {ea:+.4}, volume {ev:+.4}"
+        );
+    }
+
+    #[test]
+    fn ordinary_cells_and_somas_are_not_blobs() {
+        // A tip far from the largest ball.
+        let m = cell(&[
+            ([0.0, 0.0, 0.0], 2.0, -1),
+            ([10.0, 0.0, 0.0], 1.0, 1),
+            ([20.0, 0.0, 0.0], 1.0, 2),
+        ]);
+        assert!(find(&m, 1.0, [0.0; 3]).is_none());
+        // A soma with a short neurite inside it: the soma's construction.
+        let m = Morphology::from_arrays(
+            &[1, 2],
+            &[1, 3],
+            &[[0.0; 3], [1.0, 0.0, 0.0]],
+            &[5.0, 0.5],
+            &[-1, 1],
+        )
+        .expect("valid");
+        assert!(find(&m, 1.0, [0.0; 3]).is_none());
+    }
+}
