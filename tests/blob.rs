@@ -1,0 +1,83 @@
+//! A radius column of codes (the CAR platform writes 40 to 6,910 on a cell
+//! 200 units across) makes the union of round cones one star-shaped blob;
+//! it is meshed as that blob ([`neuromesh::blob`]).
+//!
+//! The reference here is its own: the crate's union measure samples each
+//! primitive's surface, and on 949 nearly concentric spheres of radius 6,910
+//! it misses the union's volume by 1 % (and its area by 10 %). The union of
+//! the samples' balls is estimated instead by seeded Monte Carlo in its
+//! bounding box (standard error 0.2 %); the round cones between those balls
+//! add nothing here, as every segment is shorter than a thousandth of its
+//! radius.
+
+mod common;
+
+use neuromesh::{Morphology, Params};
+
+/// A small seeded generator (SplitMix64) for points in a box.
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn radius_codes_mesh_as_the_blob_their_balls_make() {
+    let m = Morphology::from_swc(common::real_dir().join("human_cortex_CAR_00148_P003_IPL.swc"))
+        .expect("reads");
+    let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
+    let r = mesh.check_with(&m);
+    assert!(r.is_valid(), "{r}");
+    assert_eq!(r.components, 1, "{r}");
+    assert_eq!(r.self_intersections, 0, "{r}");
+
+    // The balls that reach out of the largest one; the others lie inside it.
+    let (pos, rad) = (m.positions(), m.radii());
+    let big = (0..m.len())
+        .max_by(|&a, &b| rad[a].total_cmp(&rad[b]))
+        .unwrap();
+    let (c, radius) = (pos[big], rad[big]);
+    let dist = |p: [f64; 3], q: [f64; 3]| {
+        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    };
+    let balls: Vec<([f64; 3], f64)> = (0..m.len())
+        .filter(|&i| dist(pos[i], c) + rad[i] > radius || i == big)
+        .map(|i| (pos[i], rad[i]))
+        .collect();
+    let half = balls
+        .iter()
+        .map(|&(p, r)| dist(p, c) + r)
+        .fold(0.0, f64::max);
+    let mut rng = Rng(7);
+    let n = 60_000;
+    let inside = (0..n)
+        .filter(|_| {
+            let x = [0, 1, 2].map(|a| c[a] + half * (2.0 * rng.unit() - 1.0));
+            balls.iter().any(|&(p, r)| dist(x, p) <= r)
+        })
+        .count();
+    let box_volume = (2.0 * half).powi(3);
+    let volume = box_volume * inside as f64 / n as f64;
+    let sigma = (inside as f64 / n as f64 * (1.0 - inside as f64 / n as f64) / n as f64).sqrt()
+        * box_volume
+        / volume;
+    let ev = mesh.volume() / volume - 1.0;
+    assert!(
+        ev.abs() < 5.0 * sigma + 0.002,
+        "volume {ev:+.4} against the union of balls (σ {sigma:.4})"
+    );
+    // The blob is nearly round: its area is at least that of the sphere of
+    // its volume (isoperimetric), and within 1 % of it.
+    let sphere = (36.0 * std::f64::consts::PI * mesh.volume().powi(2)).cbrt();
+    let ea = mesh.area() / sphere - 1.0;
+    assert!(
+        (-1e-3..0.01).contains(&ea),
+        "area {ea:+.4} against the sphere"
+    );
+}
