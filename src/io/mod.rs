@@ -105,7 +105,9 @@ pub fn precision_warning(mesh: &Mesh, format: Format) -> Option<String> {
     // Half the spacing of f32 values at `far`: 24 significant bits.
     let step = far * f64::from(f32::EPSILON) / 2.0;
     Some(format!(
-        "STL stores f32 coordinates: {far:.0} units from the origin they are rounded to          {step:.1e}, which can make thin neurites' triangles cross; write .obj or .ply          (double precision for this mesh) to keep them exact"
+        "STL stores f32 coordinates: {far:.0} units from the origin they are rounded to \
+         {step:.1e}, which can make thin neurites' triangles cross; write .obj or .ply \
+         (double precision for this mesh) to keep them exact"
     ))
 }
 
