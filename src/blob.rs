@@ -39,7 +39,7 @@ use crate::mesh::{BuildStats, Mesh};
 use crate::morphology::Morphology;
 use crate::soma::{self, Sphere};
 use crate::surface::Surface;
-use crate::union::{RoundCone, skeleton_primitives};
+use crate::union::{RoundCone, labelled_primitives};
 
 /// Angular spacing of the directions: a 160-gon on a great circle, about
 /// 9,400 directions and 19,000 triangles.
@@ -142,87 +142,61 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
         .iter()
         .filter(|t| t.soma.is_some())
         .count();
+    // The cones in the frame the mesh is built in, one at a time: the test
+    // runs on every cell and fails at the first far tip of an ordinary one.
     let shift = DVec3::from_array(origin);
-    let cones: Vec<RoundCone> = skeleton_primitives(morphology)
-        .into_iter()
-        .map(|c| RoundCone {
-            a: c.a * scale - shift,
-            ra: c.ra * scale,
-            b: c.b * scale - shift,
-            rb: c.rb * scale,
+    let cones = || {
+        labelled_primitives(morphology).map(move |(c, sample)| {
+            let c = RoundCone {
+                a: c.a * scale - shift,
+                ra: c.ra * scale,
+                b: c.b * scale - shift,
+                rb: c.rb * scale,
+            };
+            (c, sample)
         })
-        .collect();
+    };
     // The largest sphere: not a soma's (the first `somas` primitives).
-    let (mut best, mut at, mut center) = (0usize, f64::NEG_INFINITY, DVec3::ZERO);
-    for (i, c) in cones.iter().enumerate() {
+    let (mut best, mut at, mut center, mut label) = (0usize, f64::NEG_INFINITY, DVec3::ZERO, 0);
+    for (i, (c, sample)) in cones().enumerate() {
         for (p, r) in [(c.a, c.ra), (c.b, c.rb)] {
             if r > at {
-                (best, at, center) = (i, r, p);
+                (best, at, center, label) = (i, r, p, sample);
             }
         }
     }
     if best < somas || !(at.is_finite() && at > 0.0) {
         return None;
     }
-    let samples = primitive_samples(morphology);
-    let label = samples.get(best).copied().unwrap_or(0);
     let inside = |p: DVec3, r: f64| p.distance(center) + r <= at;
     let holds_center = |p: DVec3, r: f64| p.distance(center) <= INSIDE * r;
     let mut out = Vec::new();
-    for (i, c) in cones.into_iter().enumerate() {
+    for (c, sample) in cones() {
         if inside(c.a, c.ra) && inside(c.b, c.rb) {
             continue;
         }
         if !(holds_center(c.a, c.ra) || holds_center(c.b, c.rb)) {
             return None;
         }
-        out.push((c, samples.get(i).copied().unwrap_or(0)));
+        // Measured from the centre from here on.
+        let c = RoundCone {
+            a: c.a - center,
+            b: c.b - center,
+            ..c
+        };
+        out.push((c, sample));
     }
-    let cones: Vec<(RoundCone, u32)> = out
-        .into_iter()
-        .map(|(c, sample)| {
-            let c = RoundCone {
-                a: c.a - center,
-                b: c.b - center,
-                ..c
-            };
-            (c, sample)
-        })
-        .collect();
-    let chunks = (0..cones.len())
+    let chunks = (0..out.len())
         .step_by(CHUNK)
-        .map(|k| Chunk::new(&cones, k..(k + CHUNK).min(cones.len())))
+        .map(|k| Chunk::new(&out, k..(k + CHUNK).min(out.len())))
         .collect();
     Some(Blob {
         center,
         radius: at,
         label,
-        cones,
+        cones: out,
         chunks,
     })
-}
-
-/// The sample each primitive of [`skeleton_primitives`] labels its vertices
-/// with: a soma's first sample, else the child end (the primitives after the
-/// somas follow the samples that have a parent, or are lone roots, in sample
-/// order).
-fn primitive_samples(morphology: &Morphology) -> Vec<u32> {
-    let soma = morphology.soma_mask();
-    let parents = morphology.parents();
-    let somas = morphology
-        .trees()
-        .iter()
-        .filter_map(|t| t.soma.as_ref())
-        .map(|s| s.samples.first().copied().unwrap_or(0));
-    let rest = (0..morphology.len() as u32).filter(|&i| {
-        let p = parents[i as usize];
-        if p == crate::morphology::NO_PARENT {
-            !soma[i as usize]
-        } else {
-            !(soma[i as usize] && soma[p as usize])
-        }
-    });
-    somas.chain(rest).collect()
 }
 
 /// `ρ(u)` and the sample that gives it: the farthest exit along `u` from the

@@ -80,14 +80,7 @@ impl Summary {
             .trees()
             .iter()
             .find_map(|t| t.soma.as_ref().map(|s| (s.center, s.radius)));
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in m.positions() {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
+        let (lo, hi) = crate::mesh::bounds(m.positions());
         let rmin = m.radii().iter().copied().fold(f64::INFINITY, f64::min);
         let rmax = m.radii().iter().copied().fold(0.0, f64::max);
         Summary {

@@ -124,7 +124,7 @@ impl Mesh {
         }
         let d = [0, 1, 2].map(|a| self.origin[a] - origin[a]);
         for v in &mut self.vertices {
-            *v = [0, 1, 2].map(|a| (f64::from(v[a]) + d[a]) as f32);
+            *v = moved(*v, d);
         }
         self.origin = origin;
     }
@@ -226,12 +226,8 @@ impl Mesh {
             self.vertices.extend_from_slice(&other.vertices);
         } else {
             let d = [0, 1, 2].map(|a| other.origin[a] - self.origin[a]);
-            self.vertices.extend(
-                other
-                    .vertices
-                    .iter()
-                    .map(|v| [0, 1, 2].map(|a| (f64::from(v[a]) + d[a]) as f32)),
-            );
+            self.vertices
+                .extend(other.vertices.iter().map(|&v| moved(v, d)));
         }
         self.faces.extend(
             other
@@ -248,6 +244,11 @@ impl Mesh {
             }
         }
     }
+}
+
+/// `v` moved by `d`, rounded to f32 again.
+fn moved(v: [f32; 3], d: [f64; 3]) -> [f32; 3] {
+    [0, 1, 2].map(|a| (f64::from(v[a]) + d[a]) as f32)
 }
 
 /// The lowest and highest corner of the box around `points` (zero when

@@ -30,13 +30,7 @@ pub fn radius_warning(m: &Morphology) -> Option<String> {
     }
     let (length, radius) = (median(&mut lengths), median(&mut radii));
     let largest = radii.iter().copied().fold(0.0, f64::max);
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in pos {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
+    let (lo, hi) = crate::mesh::bounds(pos);
     let diagonal = distance(lo, hi);
     let mut why = Vec::new();
     if radius > RADIUS_PER_SEGMENT * length {

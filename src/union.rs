@@ -146,31 +146,37 @@ impl RoundCone {
 /// The primitives of a morphology: one sphere per soma, one round cone per
 /// segment not between two soma samples (a lone root is a sphere).
 pub fn skeleton_primitives(m: &Morphology) -> Vec<RoundCone> {
+    labelled_primitives(m).map(|(c, _)| c).collect()
+}
+
+/// [`skeleton_primitives`] one at a time, each with the sample it stands
+/// for: a soma's first sample, else the child end of the segment (or the
+/// lone root). Nothing is allocated beyond the soma mask.
+pub fn labelled_primitives(m: &Morphology) -> impl Iterator<Item = (RoundCone, u32)> + '_ {
     let (pos, r, parents) = (m.positions(), m.radii(), m.parents());
     let soma = m.soma_mask();
     let v = |i: usize| DVec3::from_array(pos[i]);
-    let mut out: Vec<RoundCone> = m
-        .trees()
-        .iter()
-        .filter_map(|t| t.soma.as_ref())
-        .map(|s| RoundCone::sphere(DVec3::from_array(s.center), s.radius))
-        .collect();
-    for i in 0..m.len() {
+    let somas = m.trees().iter().filter_map(|t| t.soma.as_ref()).map(|s| {
+        (
+            RoundCone::sphere(DVec3::from_array(s.center), s.radius),
+            s.samples.first().copied().unwrap_or(0),
+        )
+    });
+    let segments = (0..m.len()).filter_map(move |i| {
         let p = parents[i];
-        if p == NO_PARENT {
-            if !soma[i] {
-                out.push(RoundCone::sphere(v(i), r[i]));
-            }
-        } else if !(soma[i] && soma[p as usize]) {
-            out.push(RoundCone {
+        let cone = if p == NO_PARENT {
+            (!soma[i]).then(|| RoundCone::sphere(v(i), r[i]))
+        } else {
+            (!(soma[i] && soma[p as usize])).then(|| RoundCone {
                 a: v(p as usize),
                 ra: r[p as usize],
                 b: v(i),
                 rb: r[i],
-            });
-        }
-    }
-    out
+            })
+        };
+        cone.map(|c| (c, i as u32))
+    });
+    somas.chain(segments)
 }
 
 /// Measures of the union of the morphology's round cones.

@@ -93,14 +93,16 @@ class Mesh:
         faces: ArrayLike,
         vertex_sample: ArrayLike | None = None,
     ) -> None:
-        v64 = np.asarray(vertices, dtype=np.float64)
+        v_in = np.asarray(vertices)
         origin = (0.0, 0.0, 0.0)
-        if v64.ndim == 2 and v64.shape[1] == 3 and len(v64) and np.isfinite(v64).all():
-            origin = _native._frame_origin(tuple(v64.min(axis=0)), tuple(v64.max(axis=0)))
+        # Only positions finer than float32 can gain from a local frame.
+        wide = v_in.dtype.kind == "f" and v_in.dtype.itemsize > 4
+        if wide and v_in.ndim == 2 and v_in.shape[1] == 3 and len(v_in) and np.isfinite(v_in).all():
+            origin = _native._frame_origin(tuple(v_in.min(axis=0)), tuple(v_in.max(axis=0)))
         if origin == (0.0, 0.0, 0.0):
-            v = np.ascontiguousarray(vertices, dtype=np.float32)
+            v = np.ascontiguousarray(v_in, dtype=np.float32)
         else:
-            v = np.ascontiguousarray(v64 - np.asarray(origin), dtype=np.float32)
+            v = np.ascontiguousarray(v_in - np.asarray(origin), dtype=np.float32)
         f_in = np.asarray(faces)
         if f_in.size and (not np.issubdtype(f_in.dtype, np.integer) or f_in.min() < 0):
             raise ValueError("faces must hold non-negative integer vertex indices")

@@ -107,7 +107,6 @@ def test_a_cell_far_from_the_origin_keeps_its_precision(small_cell: Path, tmp_pa
     assert a.origin == (0.0, 0.0, 0.0) and a.vertices.dtype == np.float32
     assert b.origin != (0.0, 0.0, 0.0)
     assert b.vertices.dtype == np.float64 and b.local_vertices.dtype == np.float32
-    np.testing.assert_allclose(b.vertices, b.local_vertices + np.array(b.origin))
     assert b.check(far).valid
     assert abs(b.area / a.area - 1) < 1e-3 and abs(b.volume / a.volume - 1) < 1e-3
     np.testing.assert_allclose(b.vertices.min(axis=0), a.vertices.min(axis=0) + shift, atol=1e-3)
