@@ -113,9 +113,7 @@ pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> 
     let (mesh, face_owner, ..) = rebuild()?.into_mesh();
     let mut stuck = stuck;
     for _ in 0..MAX_FILLER_RETRIES {
-        if stuck.is_empty()
-            || stuck.len() as f64 > MAX_STUCK_SHARE * filler_of_part.len() as f64
-        {
+        if stuck.is_empty() || stuck.len() as f64 > MAX_STUCK_SHARE * filler_of_part.len() as f64 {
             break;
         }
         let (fewer, resolved) = fillers.unite_without(mesh.clone(), &face_owner, |o| {

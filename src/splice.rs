@@ -35,9 +35,11 @@
 //!   contour, its start is capped and a thinner capsule reaches from the cap
 //!   into the nearest surface. The overlap pass ([`crate::overlap`]) then
 //!   replaces the crossing parts by the boundary of their union;
-//! * *detached*: with no other surface within reach, the secondary keeps a cap
-//!   at its start and stays a separate closed component; reported so it is
-//!   never hidden.
+//! * *detached*: with no other surface near the junction at all (the
+//!   capsule looks first within reach of the branch point, then anywhere the
+//!   splicer indexes around the junction), the secondary keeps a cap at its
+//!   start and stays a separate closed component; reported so it is never
+//!   hidden.
 //!
 //! Deviations from the paper, and why: C_loc is centred at the ray's hit point
 //! rather than at the target's barycentre (a thin branch on a coarse primary
@@ -195,7 +197,19 @@ impl<'a> Splicer<'a> {
     /// surface in reach.
     fn connector(&mut self, tube_id: u32, tube: &Tube, toward: DVec3) -> bool {
         let r0 = tube.rings[0];
-        let Some(end) = self.inside_nearest(tube_id, &r0, toward, 0.5) else {
+        // Where the parent's own contours around the branch point were all
+        // skipped (a jittered trace), the nearest joined surface can lie
+        // farther than the branch point: the capsule then reaches it at any
+        // distance, so the tree stays one surface (the capsule is thinner
+        // than the branch, a sliver beside the segment fillers built later).
+        // A jittered blowfly cell had one such start, 3.2 radii past reach.
+        // Only the triangles the splicer indexes around its junctions are
+        // found (see `near_a_junction`), a few of the branch's radii and
+        // contour spacings away.
+        let Some(end) = self.inside_nearest(tube_id, &r0, toward, 0.5).or_else(|| {
+            let far = self.extent_from(r0.center);
+            self.inside_nearest_within(tube_id, &r0, far, 0.5)
+        }) else {
             return false;
         };
         // Inside the cap's dome (a hemisphere of radius r0 behind the ring).
@@ -299,9 +313,32 @@ impl<'a> Splicer<'a> {
         depth: f64,
     ) -> Option<DVec3> {
         let reach = toward.distance(r0.center) + 4.0 * r0.radius;
+        self.inside_nearest_within(tube_id, r0, reach, depth)
+    }
+
+    /// [`Self::inside_nearest`] with the surface looked for within `reach` of
+    /// `r0`'s centre.
+    fn inside_nearest_within(
+        &mut self,
+        tube_id: u32,
+        r0: &tube::Ring,
+        reach: f64,
+        depth: f64,
+    ) -> Option<DVec3> {
         let q = self.nearest_surface_point(tube_id, r0.center, r0.radius, reach)?;
         let way = (q - r0.center).normalize_or_zero();
         (way != DVec3::ZERO).then(|| q + way * (depth * r0.radius))
+    }
+
+    /// The largest distance from `p` to a vertex of the surface: the reach
+    /// that finds any surface there is.
+    fn extent_from(&self, p: DVec3) -> f64 {
+        self.surface
+            .pos
+            .iter()
+            .map(|q| q.distance_squared(p))
+            .fold(0.0, f64::max)
+            .sqrt()
     }
 
     /// Distance from `p` to the nearest surface other than the tube's own,
@@ -1033,6 +1070,89 @@ fn point_segment_2d(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A ring of `m` vertices about `center`, facing `normal`.
+    fn ring_at(s: &mut Surface, center: DVec3, normal: DVec3, radius: f64, m: u32) -> tube::Ring {
+        let u = crate::contour::any_perpendicular(normal);
+        let first = s.pos.len() as u32;
+        for p in crate::contour::ring(center, normal, u, radius, m) {
+            s.vertex(p, 0);
+        }
+        tube::Ring {
+            center,
+            normal,
+            u,
+            radius,
+            skeleton_radius: radius,
+            m,
+            first,
+            label: 0,
+            source: 0,
+            resampled: 0,
+        }
+    }
+
+    #[test]
+    fn a_start_far_from_every_surface_is_still_joined() {
+        // A closed parent (a soma-like part, owned by no tube) along x, and a
+        // tube starting 7 units above it whose ray aims sideways, at a branch
+        // point with no surface around it (its parent's contours were skipped):
+        // nothing lies within the usual reach of the start (3 units).
+        let mut s = Surface::default();
+        tube::capsule(
+            &mut s,
+            DVec3::new(-5.0, 0.0, 0.0),
+            DVec3::new(5.0, 0.0, 0.0),
+            1.0,
+            12,
+            0,
+            2,
+        );
+        let parent_tris = s.tris.len();
+        let first_tri = s.tris.len() as u32;
+        let rings: Vec<tube::Ring> = (0..4)
+            .map(|k| {
+                ring_at(
+                    &mut s,
+                    DVec3::new(0.0, 0.0, 8.0 + f64::from(k)),
+                    DVec3::Z,
+                    0.5,
+                    12,
+                )
+            })
+            .collect();
+        let mut bands = vec![first_tri];
+        for w in rings.windows(2) {
+            tube::connect(&mut s, &w[0], &w[1]);
+            bands.push(s.tris.len() as u32);
+        }
+        let (end_cap, _) = tube::cap(&mut s, &rings[3], 2, true);
+        let toward = DVec3::new(1.0, 0.0, 8.0);
+        let t = Tube {
+            branch: 1,
+            rings,
+            bands,
+            start_cap: first_tri..first_tri,
+            end_cap,
+            start_cap_vertices: 0..0,
+            tris: first_tri..s.tris.len() as u32,
+            anchor: toward,
+        };
+        let join = Join { tube: 0, toward };
+        let tubes = [t];
+        let method = Splicer::new(&mut s, &tubes, &[join], 2).join(&tubes, &join);
+        assert_eq!(method, Method::Fallback);
+        // The connector is a capsule reaching into the parent: some of its
+        // vertices lie inside it.
+        let built = &s.tris[tubes[0].tris.end as usize..];
+        assert!(!built.is_empty());
+        let inside = built.iter().flatten().any(|&v| {
+            let p = s.pos[v as usize];
+            p.x.abs() < 5.0 && (p.y * p.y + p.z * p.z).sqrt() < 1.0
+        });
+        assert!(inside, "the connector ends inside the parent");
+        assert!(s.tris.len() > parent_tris);
+    }
 
     #[test]
     fn boundary_of_a_fan_is_its_rim() {
