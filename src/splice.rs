@@ -202,7 +202,8 @@ impl<'a> Splicer<'a> {
         // farther than the branch point: the capsule then reaches it at any
         // distance, so the tree stays one surface (the capsule is thinner
         // than the branch, a sliver beside the segment fillers built later).
-        // A jittered blowfly cell had one such start, 3.2 radii past reach.
+        // A jittered blowfly cell had one such start: the nearest surface lay
+        // 3.2 units from it, its reach was 2.7.
         // Only the triangles the splicer indexes around its junctions are
         // found (see `near_a_junction`), a few of the branch's radii and
         // contour spacings away.
@@ -1108,7 +1109,6 @@ mod tests {
             0,
             2,
         );
-        let parent_tris = s.tris.len();
         let first_tri = s.tris.len() as u32;
         let rings: Vec<tube::Ring> = (0..4)
             .map(|k| {
@@ -1151,7 +1151,6 @@ mod tests {
             p.x.abs() < 5.0 && (p.y * p.y + p.z * p.z).sqrt() < 1.0
         });
         assert!(inside, "the connector ends inside the parent");
-        assert!(s.tris.len() > parent_tris);
     }
 
     #[test]
