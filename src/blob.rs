@@ -304,12 +304,16 @@ mod tests {
     use super::*;
 
     fn cell(rows: &[([f64; 3], f64, i64)]) -> Morphology {
+        cell_of_types(&vec![3; rows.len()], rows)
+    }
+
+    /// Samples with ids 1, 2, … of the given types.
+    fn cell_of_types(types: &[i32], rows: &[([f64; 3], f64, i64)]) -> Morphology {
         let ids: Vec<i64> = (1..=rows.len() as i64).collect();
-        let types = vec![3; rows.len()];
         let xyz: Vec<[f64; 3]> = rows.iter().map(|r| r.0).collect();
         let radii: Vec<f64> = rows.iter().map(|r| r.1).collect();
         let parents: Vec<i64> = rows.iter().map(|r| r.2).collect();
-        Morphology::from_arrays(&ids, &types, &xyz, &radii, &parents).expect("valid")
+        Morphology::from_arrays(&ids, types, &xyz, &radii, &parents).expect("valid")
     }
 
     #[test]
@@ -346,14 +350,7 @@ mod tests {
         ]);
         assert!(find(&m, 1.0, [0.0; 3]).is_none());
         // A soma with a short neurite inside it: the soma's construction.
-        let m = Morphology::from_arrays(
-            &[1, 2],
-            &[1, 3],
-            &[[0.0; 3], [1.0, 0.0, 0.0]],
-            &[5.0, 0.5],
-            &[-1, 1],
-        )
-        .expect("valid");
+        let m = cell_of_types(&[1, 3], &[([0.0; 3], 5.0, -1), ([1.0, 0.0, 0.0], 0.5, 1)]);
         assert!(find(&m, 1.0, [0.0; 3]).is_none());
     }
 }

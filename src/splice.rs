@@ -207,10 +207,13 @@ impl<'a> Splicer<'a> {
         // Only the triangles the splicer indexes around its junctions are
         // found (see `near_a_junction`), a few of the branch's radii and
         // contour spacings away.
-        let Some(end) = self.inside_nearest(tube_id, &r0, toward, 0.5).or_else(|| {
-            let far = self.extent_from(r0.center);
-            self.inside_nearest_within(tube_id, &r0, far, 0.5)
-        }) else {
+        let Some(end) = self
+            .inside_nearest(tube_id, &r0, reach_toward(&r0, toward), 0.5)
+            .or_else(|| {
+                let far = self.extent_from(r0.center);
+                self.inside_nearest(tube_id, &r0, far, 0.5)
+            })
+        else {
             return false;
         };
         // Inside the cap's dome (a hemisphere of radius r0 behind the ring).
@@ -266,7 +269,7 @@ impl<'a> Splicer<'a> {
         if crosses {
             ends.push(toward);
         }
-        ends.extend(self.inside_nearest(tube_id, &r0, toward, 1.0));
+        ends.extend(self.inside_nearest(tube_id, &r0, reach_toward(&r0, toward), 1.0));
         let behind = |end: &DVec3| (r0.center - *end).dot(r0.normal) >= 0.5 * r0.radius;
         let Some(end) = ends.into_iter().find(behind) else {
             return false;
@@ -304,22 +307,9 @@ impl<'a> Splicer<'a> {
     }
 
     /// A point `depth` times `r0`'s radius beyond the surface point nearest to
-    /// `r0`'s centre (other than its own tube's), within reach of `toward`:
-    /// just inside that surface, seen from the ring.
+    /// `r0`'s centre (other than its own tube's), within `reach` of it
+    /// (usually [`reach_toward`]): just inside that surface, seen from the ring.
     fn inside_nearest(
-        &mut self,
-        tube_id: u32,
-        r0: &tube::Ring,
-        toward: DVec3,
-        depth: f64,
-    ) -> Option<DVec3> {
-        let reach = toward.distance(r0.center) + 4.0 * r0.radius;
-        self.inside_nearest_within(tube_id, r0, reach, depth)
-    }
-
-    /// [`Self::inside_nearest`] with the surface looked for within `reach` of
-    /// `r0`'s centre.
-    fn inside_nearest_within(
         &mut self,
         tube_id: u32,
         r0: &tube::Ring,
@@ -840,6 +830,12 @@ fn first_band(surface: &Surface, tube: &Tube) -> Vec<u32> {
 /// A test for "within reach of some junction": a ball around each junction's
 /// first contour large enough for every attempt (the ray's reach, Q, the
 /// bridge, later contours), looked up through a coarse hash of the balls.
+/// How far from ring `r0` a junction looks for the surface its branch grows
+/// out of: to the branch point `toward` and four radii beyond.
+fn reach_toward(r0: &tube::Ring, toward: DVec3) -> f64 {
+    toward.distance(r0.center) + 4.0 * r0.radius
+}
+
 fn near_a_junction(tubes: &[Tube], joins: &[Join]) -> impl Fn(&Aabb) -> bool + use<> {
     let balls: Vec<(DVec3, f64)> = joins
         .iter()
