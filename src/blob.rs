@@ -32,6 +32,20 @@
 //! end inside the largest sphere nor containing its centre. A cell whose
 //! largest sphere is its soma goes the usual way too, so somas keep the
 //! paper's construction (section 3.3).
+//!
+//! **Nearly star-shaped.** A blob where some cones miss the centre (moved
+//! off it: the CAR cells with each sample jittered by 0.6 of its radius
+//! leave 23 % and 38 % of the cones reaching out of the largest sphere off
+//! it) is still meshed as `c + ρ(u)·u`, the same farthest exit over every
+//! cone, when at most [`MAX_STRAY_SHARE`] of those cones miss the centre.
+//! That surface is the union's star hull around `c`: closed, not crossing
+//! itself (the faces are checked as above), holding the union and filling
+//! the hollows it leaves between rays (on the jittered 66,578-sample cell:
+//! volume +10.5 %, area −22.5 %). The usual way cannot mesh such a cell: its
+//! tubes, swallowed by spheres a hundred segments wide, cross each other
+//! more than a million times, and the overlap pass ran for minutes without
+//! an end. Of an ordinary cell's cones nearly all miss the centre (97.6 %
+//! or more on every file of the corpus), so it still goes the usual way.
 
 use glam::DVec3;
 
@@ -48,6 +62,11 @@ const DELTA: f64 = std::f64::consts::TAU / 160.0;
 /// An end sphere contains the centre when the centre is this fraction of its
 /// radius inside it, so `ρ` stays clear of zero.
 const INSIDE: f64 = 0.99;
+
+/// A union is meshed as its star hull around its largest sphere when at
+/// most this share of the cones reaching out of that sphere miss its centre
+/// (see the module documentation).
+pub const MAX_STRAY_SHARE: f64 = 0.5;
 
 /// Golden-section steps refining where along a cone a ray leaves it last.
 const REFINE_STEPS: usize = 24;
@@ -108,8 +127,12 @@ impl Chunk {
 /// The mesh of `morphology` (scaled by `scale`, stored around `origin`) as a
 /// radial surface, when its union of round cones is a star-shaped blob
 /// around its largest sphere, which is not a soma; `None` otherwise.
+///
+/// A union that is only nearly star-shaped is meshed as its star hull
+/// (see the module documentation).
 pub fn mesh(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Mesh> {
-    let blob = find(morphology, scale, origin)?;
+    let blob = find(morphology, scale, origin, Shape::Star)
+        .or_else(|| find(morphology, scale, origin, Shape::NearlyStar))?;
     let mut surface = Surface::with_capacity(10_000);
     let unit = Sphere {
         center: DVec3::ZERO,
@@ -135,8 +158,18 @@ pub fn mesh(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Mes
     faces_out.then(|| surface.into_mesh(BuildStats::default()))
 }
 
-/// The blob of `morphology`, if it is one (see the module documentation).
-fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
+/// How far from star-shaped a union may be to be meshed as a blob.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    /// Every cone reaching out of the largest sphere holds its centre.
+    Star,
+    /// At most [`MAX_STRAY_SHARE`] of those cones miss the centre.
+    NearlyStar,
+}
+
+/// The blob of `morphology`, if it is one of `shape` (see the module
+/// documentation).
+fn find(morphology: &Morphology, scale: f64, origin: [f64; 3], shape: Shape) -> Option<Blob> {
     let somas = morphology
         .trees()
         .iter()
@@ -171,12 +204,18 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
     let inside = |p: DVec3, r: f64| p.distance(center) + r <= at;
     let holds_center = |p: DVec3, r: f64| p.distance(center) <= INSIDE * r;
     let mut out = Vec::new();
+    let mut strays = 0usize;
     for (c, sample) in cones() {
         if inside(c.a, c.ra) && inside(c.b, c.rb) {
             continue;
         }
         if !(holds_center(c.a, c.ra) || holds_center(c.b, c.rb)) {
-            return None;
+            strays += 1;
+            // Stop as soon as the share is out of reach (an ordinary cell,
+            // half-way through its cones at most).
+            if shape == Shape::Star || strays as f64 > MAX_STRAY_SHARE * morphology.len() as f64 {
+                return None;
+            }
         }
         // Measured from the centre from here on.
         let c = RoundCone {
@@ -185,6 +224,9 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3]) -> Option<Blob> {
             ..c
         };
         out.push((c, sample));
+    }
+    if strays as f64 > MAX_STRAY_SHARE * out.len() as f64 {
+        return None;
     }
     let chunks = (0..out.len())
         .step_by(CHUNK)
@@ -341,6 +383,45 @@ mod tests {
     }
 
     #[test]
+    fn radius_codes_off_the_centre_mesh_as_the_star_hull() {
+        // The swollen chain with a side branch whose balls miss the largest
+        // ball's centre: not star-shaped about it, but nearly.
+        let m = cell(&[
+            ([0.0, 0.0, 0.0], 40.0, -1),
+            ([3.0, 0.0, 0.0], 100.0, 1),
+            ([6.0, 1.0, 0.0], 100.0, 2),
+            ([9.0, 2.0, 1.0], 80.0, 3),
+            ([12.0, 2.0, 1.0], 90.0, 4),
+            ([15.0, 2.0, 1.0], 90.0, 5),
+            ([120.0, 0.0, 0.0], 60.0, 6),
+            ([160.0, 10.0, 0.0], 60.0, 7),
+        ]);
+        assert!(find(&m, 1.0, [0.0; 3], Shape::Star).is_none());
+        let hull = mesh(&m, 1.0, [0.0; 3]).expect("a nearly star-shaped blob");
+        let r = hull.check();
+        assert!(r.is_valid(), "{r}");
+        assert_eq!(r.components, 1);
+        // The hull holds the union and here fills only the waist between
+        // the side ball and the rest.
+        let u = crate::union::measure_morphology(&m);
+        let ev = hull.volume() / u.volume - 1.0;
+        assert!((-0.01..0.05).contains(&ev), "volume {ev:+.4}");
+        // The same shape with radii below the segments' lengths: its thin
+        // cones miss the centre, and it goes the usual way.
+        let small = cell(&[
+            ([0.0, 0.0, 0.0], 0.4, -1),
+            ([3.0, 0.0, 0.0], 1.0, 1),
+            ([6.0, 1.0, 0.0], 1.0, 2),
+            ([9.0, 2.0, 1.0], 0.8, 3),
+            ([12.0, 2.0, 1.0], 0.9, 4),
+            ([15.0, 2.0, 1.0], 0.9, 5),
+            ([120.0, 0.0, 0.0], 0.6, 6),
+            ([160.0, 10.0, 0.0], 0.6, 7),
+        ]);
+        assert!(mesh(&small, 1.0, [0.0; 3]).is_none());
+    }
+
+    #[test]
     fn ordinary_cells_and_somas_are_not_blobs() {
         // A tip far from the largest ball.
         let m = cell(&[
@@ -348,9 +429,9 @@ mod tests {
             ([10.0, 0.0, 0.0], 1.0, 1),
             ([20.0, 0.0, 0.0], 1.0, 2),
         ]);
-        assert!(find(&m, 1.0, [0.0; 3]).is_none());
+        assert!(find(&m, 1.0, [0.0; 3], Shape::Star).is_none());
         // A soma with a short neurite inside it: the soma's construction.
         let m = cell_of_types(&[1, 3], &[([0.0; 3], 5.0, -1), ([1.0, 0.0, 0.0], 0.5, 1)]);
-        assert!(find(&m, 1.0, [0.0; 3]).is_none());
+        assert!(find(&m, 1.0, [0.0; 3], Shape::Star).is_none());
     }
 }

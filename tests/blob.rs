@@ -12,6 +12,7 @@
 
 mod common;
 
+use neuromesh::morphology::NO_PARENT;
 use neuromesh::{Morphology, Params};
 
 /// A small seeded generator (SplitMix64) for points in a box.
@@ -37,7 +38,27 @@ fn radius_codes_mesh_as_the_blob_their_balls_make() {
     assert_eq!(r.components, 1, "{r}");
     assert_eq!(r.self_intersections, 0, "{r}");
 
-    // The balls that reach out of the largest one; the others lie inside it.
+    let (volume, sigma) = union_of_balls(&m);
+    let ev = mesh.volume() / volume - 1.0;
+    assert!(
+        ev.abs() < 5.0 * sigma + 0.002,
+        "volume {ev:+.4} against the union of balls (σ {sigma:.4})"
+    );
+    // The blob is nearly round: its area is at least that of the sphere of
+    // its volume (isoperimetric), and within 1 % of it.
+    let sphere = (36.0 * std::f64::consts::PI * mesh.volume().powi(2)).cbrt();
+    let ea = mesh.area() / sphere - 1.0;
+    assert!(
+        (-1e-3..0.01).contains(&ea),
+        "area {ea:+.4} against the sphere"
+    );
+}
+
+/// The volume of the union of `m`'s balls (samples and radii) by seeded
+/// Monte Carlo in the box around its largest ball that holds them all, and
+/// its relative standard error. Only the balls that reach out of the
+/// largest one are tested; the others lie inside it.
+fn union_of_balls(m: &Morphology) -> (f64, f64) {
     let (pos, rad) = (m.positions(), m.radii());
     let big = (0..m.len())
         .max_by(|&a, &b| rad[a].total_cmp(&rad[b]))
@@ -67,17 +88,50 @@ fn radius_codes_mesh_as_the_blob_their_balls_make() {
     let sigma = (inside as f64 / n as f64 * (1.0 - inside as f64 / n as f64) / n as f64).sqrt()
         * box_volume
         / volume;
+    (volume, sigma)
+}
+
+/// The CAR cell with every neurite sample moved by up to 0.6 of its radius
+/// per axis (seeded), as `benches/stress_copies.py jitter` does: a quarter
+/// of the cones reaching out of the largest ball then miss its centre, and
+/// the tubes, swallowed by balls a hundred segments wide, crossed each other
+/// so often that the overlap pass ran for minutes. It is meshed as the star
+/// hull of the union around the largest ball.
+#[test]
+fn jittered_radius_codes_mesh_as_the_star_hull() {
+    let m = Morphology::from_swc(common::real_dir().join("human_cortex_CAR_00148_P003_IPL.swc"))
+        .expect("reads");
+    let mut rng = Rng(11);
+    let rad = m.radii().to_vec();
+    let xyz: Vec<[f64; 3]> = (0..m.len())
+        .map(|i| {
+            let p = m.positions()[i];
+            if m.is_soma(i as u32) {
+                return p;
+            }
+            let a = 0.6 * rad[i];
+            p.map(|x| x + a * (2.0 * rng.unit() - 1.0))
+        })
+        .collect();
+    let ids: Vec<i64> = (0..m.len() as i64).collect();
+    let parents: Vec<i64> = m
+        .parents()
+        .iter()
+        .map(|&p| if p == NO_PARENT { -1 } else { i64::from(p) })
+        .collect();
+    let jittered = Morphology::from_arrays(&ids, m.kinds(), &xyz, &rad, &parents).expect("valid");
+    let mesh = neuromesh::mesh_morphology(&jittered, &Params::default()).expect("meshes");
+    let r = mesh.check_with(&jittered);
+    assert!(r.is_valid(), "{r}");
+    assert_eq!(r.components, 1, "{r}");
+    assert_eq!(r.self_intersections, 0, "{r}");
+    let (volume, sigma) = union_of_balls(&jittered);
     let ev = mesh.volume() / volume - 1.0;
+    // The hull holds the union of round cones, which holds that of the
+    // balls; its flat triangles lose a little of it (−0.45 % here), and the
+    // hollows it fills between rays are small on this cell.
     assert!(
-        ev.abs() < 5.0 * sigma + 0.002,
+        (-0.03..0.10).contains(&ev),
         "volume {ev:+.4} against the union of balls (σ {sigma:.4})"
-    );
-    // The blob is nearly round: its area is at least that of the sphere of
-    // its volume (isoperimetric), and within 1 % of it.
-    let sphere = (36.0 * std::f64::consts::PI * mesh.volume().powi(2)).cbrt();
-    let ea = mesh.area() / sphere - 1.0;
-    assert!(
-        (-1e-3..0.01).contains(&ea),
-        "area {ea:+.4} against the sphere"
     );
 }
