@@ -37,7 +37,9 @@
 //! off it: the CAR cells with each sample jittered by 0.6 of its radius
 //! leave 23 % and 38 % of the cones reaching out of the largest sphere off
 //! it) is still meshed as `c + ρ(u)·u`, the same farthest exit over every
-//! cone, when at most [`MAX_STRAY_SHARE`] of those cones miss the centre.
+//! cone, when at most [`MAX_STRAY_SHARE`] of those cones miss the centre
+//! and none of those reaches farther than [`MAX_SPAN`] largest radii from
+//! it.
 //! That surface is the union's star hull around `c`: closed, not crossing
 //! itself (the faces are checked as above), holding the union and filling
 //! the hollows it leaves between rays (on the jittered 66,578-sample cell:
@@ -67,6 +69,13 @@ const INSIDE: f64 = 0.99;
 /// most this share of the cones reaching out of that sphere miss its centre
 /// (see the module documentation).
 pub const MAX_STRAY_SHARE: f64 = 0.5;
+
+/// A nearly star-shaped union is meshed as its hull only when every cone
+/// missing the centre lies within this many largest radii of it: at that
+/// distance the 160-gon's edge is an eighth of the radius. The jittered CAR
+/// cells reach 2.77 and 2.73; a capsule of radius 1 and length 20 seen from
+/// one end reaches 21 (meshed radially, it lost 9 % of its volume).
+pub const MAX_SPAN: f64 = 3.0;
 
 /// Golden-section steps refining where along a cone a ray leaves it last.
 const REFINE_STEPS: usize = 24;
@@ -211,6 +220,13 @@ fn find(morphology: &Morphology, scale: f64, origin: [f64; 3], shape: Shape) -> 
         }
         if !(holds_center(c.a, c.ra) || holds_center(c.b, c.rb)) {
             strays += 1;
+            // Its directions are spaced for a surface within a few radii
+            // of the centre: an elongated cell (a capsule seen from one
+            // end) would be cut into long thin triangles.
+            let reach = (c.a.distance(center) + c.ra).max(c.b.distance(center) + c.rb);
+            if reach > MAX_SPAN * at {
+                return None;
+            }
             // Stop as soon as the share is out of reach (an ordinary cell,
             // half-way through its cones at most).
             if shape == Shape::Star || strays as f64 > MAX_STRAY_SHARE * morphology.len() as f64 {
@@ -419,6 +435,18 @@ mod tests {
             ([160.0, 10.0, 0.0], 0.6, 7),
         ]);
         assert!(mesh(&small, 1.0, [0.0; 3]).is_none());
+    }
+
+    #[test]
+    fn a_capsule_seen_from_one_end_is_not_a_blob() {
+        // One of its two cones misses the end sphere's centre (half of
+        // them), but it reaches 21 radii away: the tubes mesh it.
+        let m = cell(&[
+            ([0.0; 3], 1.0, -1),
+            ([10.0, 0.0, 0.0], 1.0, 1),
+            ([20.0, 0.0, 0.0], 1.0, 2),
+        ]);
+        assert!(mesh(&m, 1.0, [0.0; 3]).is_none());
     }
 
     #[test]
