@@ -32,11 +32,7 @@ impl Rng {
 fn radius_codes_mesh_as_the_blob_their_balls_make() {
     let m = Morphology::from_swc(common::real_dir().join("human_cortex_CAR_00148_P003_IPL.swc"))
         .expect("reads");
-    let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
-    let r = mesh.check_with(&m);
-    assert!(r.is_valid(), "{r}");
-    assert_eq!(r.components, 1, "{r}");
-    assert_eq!(r.self_intersections, 0, "{r}");
+    let mesh = one_clean_surface(&m);
 
     let (volume, sigma) = union_of_balls(&m);
     let ev = mesh.volume() / volume - 1.0;
@@ -52,6 +48,17 @@ fn radius_codes_mesh_as_the_blob_their_balls_make() {
         (-1e-3..0.01).contains(&ea),
         "area {ea:+.4} against the sphere"
     );
+}
+
+/// The mesh of `m`, checked closed, 2-manifold and outward, one component
+/// and free of self-intersections.
+fn one_clean_surface(m: &Morphology) -> neuromesh::Mesh {
+    let mesh = neuromesh::mesh_morphology(m, &Params::default()).expect("meshes");
+    let r = mesh.check_with(m);
+    assert!(r.is_valid(), "{r}");
+    assert_eq!(r.components, 1, "{r}");
+    assert_eq!(r.self_intersections, 0, "{r}");
+    mesh
 }
 
 /// The volume of the union of `m`'s balls (samples and radii) by seeded
@@ -120,11 +127,7 @@ fn jittered_radius_codes_mesh_as_the_star_hull() {
         .map(|&p| if p == NO_PARENT { -1 } else { i64::from(p) })
         .collect();
     let jittered = Morphology::from_arrays(&ids, m.kinds(), &xyz, &rad, &parents).expect("valid");
-    let mesh = neuromesh::mesh_morphology(&jittered, &Params::default()).expect("meshes");
-    let r = mesh.check_with(&jittered);
-    assert!(r.is_valid(), "{r}");
-    assert_eq!(r.components, 1, "{r}");
-    assert_eq!(r.self_intersections, 0, "{r}");
+    let mesh = one_clean_surface(&jittered);
     let (volume, sigma) = union_of_balls(&jittered);
     let ev = mesh.volume() / volume - 1.0;
     // The hull holds the union of round cones, which holds that of the
