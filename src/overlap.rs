@@ -517,13 +517,13 @@ fn union(
             mesh.faces = faces;
             return Err((failure.unwrap_or("no crossing could be cut"), culprits));
         }
-        crate::parallel::for_each_indexed(&mut alive, |f, a| {
+        for (f, a) in alive.iter_mut().enumerate() {
             *a = if f < first_piece {
                 !(face_cluster[f] != u32::MAX && ok[face_cluster[f] as usize])
             } else {
                 ok[piece_cluster[f - first_piece] as usize]
             };
-        });
+        }
         let patch = patches(&faces, &alive, n_old as usize, &cut_edges);
         // A patch holding faces of a cluster left uncut may lie partly inside
         // and partly outside: it is always kept (the proof then finds any
@@ -547,9 +547,9 @@ fn union(
             bvh,
             &mut known,
         );
-        let kept: Vec<bool> = crate::parallel::map_range(faces.len(), |f| {
-            alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize])
-        });
+        let kept: Vec<bool> = (0..faces.len())
+            .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
+            .collect();
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
         let near = Near {
             runs,
@@ -810,20 +810,19 @@ fn classify(
 ) -> Vec<bool> {
     let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
     // The largest face of each patch: its centroid is far from the cuts.
-    // (Twice the area, squared; −1 for dead faces, which never win.)
-    let area = crate::parallel::map_range(faces.len(), |f| {
-        if !alive[f] {
-            return -1.0;
-        }
-        let t = faces[f].map(|k| all_pos[k as usize]);
-        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
-        crate::mesh::dot(n, n)
-    });
+    // (Measured per live face in one pass: a separate parallel pass over the
+    // areas was slower, on one thread and on two, for the array it fills.)
     let mut best: Vec<(f64, u32)> = vec![(-1.0, u32::MAX); n_patches];
-    for (f, &a) in area.iter().enumerate() {
+    for (f, face) in faces.iter().enumerate() {
+        if !alive[f] {
+            continue;
+        }
+        let t = face.map(|k| all_pos[k as usize]);
+        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
+        let area = crate::mesh::dot(n, n);
         let slot = &mut best[patch[f] as usize];
-        if a > slot.0 {
-            *slot = (a, f as u32);
+        if area > slot.0 {
+            *slot = (area, f as u32);
         }
     }
     let mut bounds = Aabb::EMPTY;

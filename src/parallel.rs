@@ -61,50 +61,6 @@ pub fn map<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> 
     }
 }
 
-/// `(0..n).map(f).collect()`, in parallel when available, order kept: for
-/// passes over every face or vertex of a large mesh, cheap per item.
-pub fn map_range<U: Send>(n: usize, f: impl Fn(usize) -> U + Sync + Send) -> Vec<U> {
-    #[cfg(feature = "parallel")]
-    {
-        use rayon::prelude::*;
-        (0..n)
-            .into_par_iter()
-            .with_min_len(PASS_CHUNK)
-            .map(f)
-            .collect()
-    }
-    #[cfg(not(feature = "parallel"))]
-    {
-        (0..n).map(f).collect()
-    }
-}
-
-/// `for (i, x) in items.iter_mut().enumerate() { f(i, x) }`, in parallel when
-/// available.
-pub fn for_each_indexed<T: Send>(items: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
-    #[cfg(feature = "parallel")]
-    {
-        use rayon::prelude::*;
-        items
-            .par_iter_mut()
-            .with_min_len(PASS_CHUNK)
-            .enumerate()
-            .for_each(|(i, x)| f(i, x));
-    }
-    #[cfg(not(feature = "parallel"))]
-    {
-        for (i, x) in items.iter_mut().enumerate() {
-            f(i, x);
-        }
-    }
-}
-
-/// Fewest items a thread takes in [`map_range`] and [`for_each_indexed`]:
-/// their items cost nanoseconds, so smaller shares cost more to hand out
-/// than to do.
-#[cfg(feature = "parallel")]
-const PASS_CHUNK: usize = 1 << 14;
-
 /// `(0..n).flat_map(f).collect()`, in parallel when available, order kept.
 pub fn flat_map_range<U: Send>(n: usize, f: impl Fn(usize) -> Vec<U> + Sync + Send) -> Vec<U> {
     #[cfg(feature = "parallel")]
@@ -131,12 +87,6 @@ mod tests {
         let fm = with_threads(Some(3), || flat_map_range(100, |i| vec![i; i % 3])).unwrap();
         let serial: Vec<usize> = (0..100).flat_map(|i| vec![i; i % 3]).collect();
         assert_eq!(fm, serial);
-        let n = 100_000;
-        let squares = with_threads(Some(3), || map_range(n, |i| i * i)).unwrap();
-        assert_eq!(squares, (0..n).map(|i| i * i).collect::<Vec<_>>());
-        let mut marks = vec![0usize; n];
-        with_threads(Some(3), || for_each_indexed(&mut marks, |i, x| *x = i + 1)).unwrap();
-        assert!(marks.iter().enumerate().all(|(i, &x)| x == i + 1));
         assert!(with_threads(Some(0), || ()).is_err());
     }
 }

@@ -141,15 +141,12 @@ impl Surface {
         tris.shrink_to_fit();
         let faces = tris;
         drop((alive, remap));
-        let vertices = order
-            .iter()
-            .map(|&k| {
-                let p = pos[k as usize];
-                [p.x as f32, p.y as f32, p.z as f32]
-            })
-            .collect();
+        let vertices = crate::parallel::map(&order, |&k| {
+            let p = pos[k as usize];
+            [p.x as f32, p.y as f32, p.z as f32]
+        });
         drop(pos);
-        let vertex_sample = order.iter().map(|&k| label[k as usize]).collect();
+        let vertex_sample = crate::parallel::map(&order, |&k| label[k as usize]);
         (
             Mesh {
                 vertices,
