@@ -71,8 +71,10 @@ use crate::volume::{Cone, fraction_outside, slices};
 /// thin ones forking) add a sliver the splice's bridge nearly covers, 0.01 %
 /// of a mouse pyramidal cell's volume each. Over the 48 corpus files, 0.02 %
 /// (rather than 0.03 %) brings two more within 3 % of the union's volume for
-/// about 2 % more meshing time; 0.01 % brings the same two for 61 % more
-/// (benches/README, "Smaller fillers").
+/// 3 % more survey time (about 5 % on one thread); 0.01 % brings the same two
+/// for 61 % more. On the synthetic scale tree 0.02 % costs 30 %: its extra
+/// fillers bring another whole-mesh round of the overlap pass (benches/README,
+/// "Smaller fillers").
 pub const MIN_GAIN: f64 = 2e-4;
 
 /// Fillers are built only when together they are estimated to add this

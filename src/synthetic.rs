@@ -4,10 +4,10 @@
 //!
 //! The cell is a soma sphere with a few primary neurites. Every living tip
 //! grows one sample per round along a persistent random walk pulled towards
-//! the direction the tip was born with, with a spacing proportional to its radius (as dense tracings
-//! have), tapers slowly, may fork (the child leaves 25 to 70 degrees off,
-//! thinner) and may end; one tip always survives until the requested number of
-//! samples is reached. The same `(samples, seed)` always gives the same text,
+//! the direction the tip was born with, with a spacing proportional to its
+//! radius (as dense tracings have), tapers slowly, may fork (the child leaves
+//! 25 to 70 degrees off, thinner) and may end; one tip always survives until
+//! the requested number of samples is reached. The same `(samples, seed)` always gives the same text,
 //! and a larger tree of a seed starts with the smaller one's rounds.
 //!
 //! The arbor's density stays bounded as it grows, as a real cell's does: forks
@@ -120,8 +120,12 @@ fn grow(samples: usize, seed: u64) -> (String, usize) {
                 tip.kind, tip.pos.x, tip.pos.y, tip.pos.z, tip.radius, tip.parent
             );
             tip.parent = id;
+            // Tips alive now: those kept so far this round (with their
+            // forks), this one and the `alive - k - 1` still to grow.
+            let now = next.len() + alive - k;
+            // The draw comes first so the sequence does not depend on the cap.
             let fork = rng.f64() < 0.02;
-            if fork && alive + next.len() - k < MAX_TIPS {
+            if fork && now < MAX_TIPS {
                 // A fork: the child leaves at 25-70 degrees, thinner.
                 let side = tip.dir.cross(rng.unit()).normalize_or_zero();
                 let angle = (25.0 + 45.0 * rng.f64()).to_radians();
@@ -176,15 +180,14 @@ mod tests {
 
     #[test]
     fn the_arbor_stays_sparse_as_it_grows() {
-        let (_, most) = grow(200_000, 1);
+        let (large, most) = grow(200_000, 1);
         assert!(most <= MAX_TIPS, "{most} tips alive at once");
         // Samples within 200 micrometres of the soma: the arbor moves on
         // into new space rather than filling the old. With unbounded forks
         // nearly all of them were there (48,618 of 50 k, 193,005 of 200 k);
         // now 10,819 and 22,014.
-        let near = |n| {
-            random_neuron_swc(n, 1)
-                .lines()
+        let near = |text: &str| {
+            text.lines()
                 .filter(|l| !l.starts_with('#'))
                 .filter(|l| {
                     let v: Vec<f64> = l
@@ -197,7 +200,7 @@ mod tests {
                 })
                 .count()
         };
-        let (at_50k, at_200k) = (near(50_000), near(200_000));
+        let (at_50k, at_200k) = (near(&random_neuron_swc(50_000, 1)), near(&large));
         assert!(
             at_200k < at_50k * 3,
             "{at_50k} then {at_200k} samples near the soma"
