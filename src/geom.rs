@@ -331,27 +331,48 @@ pub fn closest_point_on_triangle(p: glam::DVec3, t: [glam::DVec3; 3]) -> glam::D
 /// Möller–Trumbore: distance along `dir` (not normalised) to triangle `t`, if the
 /// ray from `origin` hits it at a parameter ≥ 0.
 pub fn ray_triangle(origin: P3, dir: P3, t: [P3; 3]) -> Option<f64> {
+    ray_triangle_near(origin, dir, t).0
+}
+
+/// How close to the edge of the test a ray may pass, in barycentric
+/// coordinates, before [`ray_triangle_near`] calls it near: far above the
+/// rounding of f64 coordinates a cell apart (1e-12 here), far below what a
+/// ray in general position comes to.
+const RAY_MARGIN: f64 = 1e-7;
+
+/// [`ray_triangle`], and whether the answer is near its edge: the ray passes
+/// within [`RAY_MARGIN`] of the triangle's border (a hit there may be counted
+/// by both faces on an edge, or by none), runs nearly in its plane, or meets
+/// it next to `origin`. A ray with no near answer on a closed surface counts
+/// it exactly.
+pub fn ray_triangle_near(origin: P3, dir: P3, t: [P3; 3]) -> (Option<f64>, bool) {
     let e1 = sub(t[1], t[0]);
     let e2 = sub(t[2], t[0]);
     let p = cross(dir, e2);
     let det = dot(e1, p);
     let scale = dot(e1, e1).max(dot(e2, e2)) * dot(dir, dir).sqrt();
     if det.abs() <= 1e-14 * scale {
-        return None;
+        return (None, true);
     }
+    let flat = det.abs() <= 1e-9 * scale;
     let inv = 1.0 / det;
     let s = sub(origin, t[0]);
     let u = dot(s, p) * inv;
-    if !(-1e-12..=1.0 + 1e-12).contains(&u) {
-        return None;
+    if !(-RAY_MARGIN..=1.0 + RAY_MARGIN).contains(&u) {
+        return (None, flat);
     }
     let q = cross(s, e1);
     let v = dot(dir, q) * inv;
-    if v < -1e-12 || u + v > 1.0 + 1e-12 {
-        return None;
+    if v < -RAY_MARGIN || u + v > 1.0 + RAY_MARGIN {
+        return (None, flat);
     }
     let t_hit = dot(e2, q) * inv;
-    (t_hit >= 0.0).then_some(t_hit)
+    let border =
+        u <= RAY_MARGIN || u >= 1.0 - RAY_MARGIN || v <= RAY_MARGIN || u + v >= 1.0 - RAY_MARGIN;
+    let size = dot(e1, e1).max(dot(e2, e2)).sqrt() / dot(dir, dir).sqrt();
+    let near = flat || border || t_hit.abs() <= RAY_MARGIN * size;
+    let inside = (-1e-12..=1.0 + 1e-12).contains(&u) && v >= -1e-12 && u + v <= 1.0 + 1e-12;
+    ((inside && t_hit >= 0.0).then_some(t_hit), near)
 }
 
 #[cfg(test)]
@@ -476,5 +497,23 @@ mod tests {
         assert!((t - 0.5).abs() < 1e-12);
         assert!(ray_triangle([0.2, 0.2, 1.0], [0.0, 0.0, 1.0], T).is_none());
         assert!(ray_triangle([2.0, 2.0, 1.0], [0.0, 0.0, -1.0], T).is_none());
+    }
+
+    #[test]
+    fn rays_near_a_border_are_told() {
+        let down = [0.0, 0.0, -1.0];
+        // Well inside, well outside: exact answers.
+        assert_eq!(
+            ray_triangle_near([0.2, 0.3, 1.0], down, T),
+            (Some(1.0), false)
+        );
+        assert_eq!(ray_triangle_near([0.9, 0.9, 1.0], down, T), (None, false));
+        // On an edge, a corner, just outside an edge: near, whatever the hit.
+        assert!(ray_triangle_near([0.5, 0.0, 1.0], down, T).1);
+        assert!(ray_triangle_near([0.0, 0.0, 1.0], down, T).1);
+        assert!(ray_triangle_near([0.5, 0.5 + 1e-9, 1.0], down, T).1);
+        // In the plane, and from a point on the triangle.
+        assert!(ray_triangle_near([0.2, 0.2, 0.0], [1.0, 0.0, 0.0], T).1);
+        assert!(ray_triangle_near([0.2, 0.2, 0.0], [0.0, 0.0, 1.0], T).1);
     }
 }
