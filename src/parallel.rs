@@ -61,6 +61,27 @@ pub fn map<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> 
     }
 }
 
+/// [`map`] into a vector with room for `room` more items, so a caller that
+/// appends a few does not copy the whole of it to grow it (the room is
+/// address space only until it is used).
+pub fn map_with_room<T: Sync, U: Send>(
+    items: &[T],
+    room: usize,
+    f: impl Fn(&T) -> U + Sync + Send,
+) -> Vec<U> {
+    let mut out = Vec::with_capacity(items.len() + room);
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        items.par_iter().map(f).collect_into_vec(&mut out);
+    }
+    #[cfg(not(feature = "parallel"))]
+    {
+        out.extend(items.iter().map(f));
+    }
+    out
+}
+
 /// `(0..n).flat_map(f).collect()`, in parallel when available, order kept.
 pub fn flat_map_range<U: Send>(n: usize, f: impl Fn(usize) -> Vec<U> + Sync + Send) -> Vec<U> {
     #[cfg(feature = "parallel")]
@@ -84,6 +105,9 @@ mod tests {
         let one = with_threads(Some(1), || map(&items, |x| x * 2)).unwrap();
         let many = with_threads(Some(4), || map(&items, |x| x * 2)).unwrap();
         assert_eq!(one, many);
+        let roomy = with_threads(Some(2), || map_with_room(&items, 100, |x| x * 2)).unwrap();
+        assert_eq!(roomy, one);
+        assert!(roomy.capacity() >= items.len() + 100);
         let fm = with_threads(Some(3), || flat_map_range(100, |i| vec![i; i % 3])).unwrap();
         let serial: Vec<usize> = (0..100).flat_map(|i| vec![i; i % 3]).collect();
         assert_eq!(fm, serial);
