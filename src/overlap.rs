@@ -527,26 +527,21 @@ fn union(
             origin[f - first_piece]
         }
     };
-    let mut alive = vec![true; faces.len()];
-    // Verdicts of the patches' sample faces, kept across the retries.
-    let mut known: FastMap<u32, bool> = FastMap::default();
-    loop {
-        if !ok.contains(&true) {
-            faces.truncate(first_piece);
-            mesh.faces = faces;
-            return Err((failure.unwrap_or("no crossing could be cut"), culprits));
-        }
-        for (f, a) in alive.iter_mut().enumerate() {
-            *a = if f < first_piece {
-                !(face_cluster[f] != u32::MAX && ok[face_cluster[f] as usize])
-            } else {
-                ok[piece_cluster[f - first_piece] as usize]
-            };
-        }
+    // The patches, live faces and kept faces with the clusters `ok` names cut.
+    let full_try = |ok: &[bool]| {
+        let alive: Vec<bool> = (0..faces.len())
+            .map(|f| {
+                if f < first_piece {
+                    !(face_cluster[f] != u32::MAX && ok[face_cluster[f] as usize])
+                } else {
+                    ok[piece_cluster[f - first_piece] as usize]
+                }
+            })
+            .collect();
         let patch = patches(&faces, &alive, n_old as usize, &cut_edges);
-        // A patch holding faces of a cluster left uncut may lie partly inside
-        // and partly outside: it is always kept (the proof then finds any
-        // cut next to it that this leaves inconsistent).
+        // A patch holding faces of a cluster left uncut may lie partly
+        // inside and partly outside: it is always kept (the proof then
+        // finds any cut next to it that this leaves inconsistent).
         let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
         let mut uncertain = vec![false; n_patches];
         for f in &in_clusters {
@@ -564,11 +559,49 @@ fn union(
             &all_pos[..n_old as usize],
             runs,
             bvh,
-            &mut known,
         );
         let kept: Vec<bool> = (0..faces.len())
             .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
             .collect();
+        (patch, alive, kept)
+    };
+    // The first try finds the patches and casts their rays; a try after a
+    // failed proof only leaves more clusters uncut ([`leave_uncut`]).
+    let mut tried: Option<(Vec<u32>, Vec<bool>, Vec<bool>)> = None;
+    let mut reverted: Vec<usize> = Vec::new();
+    loop {
+        if !ok.contains(&true) {
+            faces.truncate(first_piece);
+            mesh.faces = faces;
+            return Err((failure.unwrap_or("no crossing could be cut"), culprits));
+        }
+        match &mut tried {
+            None => tried = Some(full_try(&ok)),
+            Some(t) => {
+                let back: Vec<u32> = reverted
+                    .iter()
+                    .flat_map(|&c| clusters[c].iter().flatten().copied())
+                    .collect();
+                leave_uncut(
+                    &faces,
+                    n_old as usize,
+                    first_piece,
+                    &back,
+                    |f| !ok[piece_cluster[f - first_piece] as usize],
+                    &t.0,
+                    &mut t.1,
+                    &mut t.2,
+                );
+                reverted.clear();
+                debug_assert!(
+                    full_try(&ok).2 == t.2,
+                    "leaving clusters uncut keeps what a full try keeps"
+                );
+            }
+        }
+        let Some((_, _, kept)) = &tried else {
+            unreachable!("the first try fills it")
+        };
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
         let near = Near {
             runs,
@@ -577,7 +610,7 @@ fn union(
         };
         match prove(
             &faces,
-            &kept,
+            kept,
             &all_pos,
             first_piece,
             n_old,
@@ -589,7 +622,7 @@ fn union(
                     .filter(|&c| !ok[c])
                     .map(|c| clusters[c].len())
                     .sum();
-                let remap = renumbering(&faces, &kept, all_pos.len());
+                let remap = renumbering(&faces, kept, all_pos.len());
                 // Faces of uncut clusters keep their vertices, renumbered.
                 let uncut: Vec<u32> = (0..clusters.len())
                     .filter(|&c| !ok[c])
@@ -611,7 +644,7 @@ fn union(
                 let out_owner = assemble(
                     mesh,
                     faces,
-                    &kept,
+                    kept,
                     &all_pos,
                     &remap,
                     |f| owner[origin_of(f) as usize],
@@ -639,10 +672,70 @@ fn union(
             Err((why, at_fault)) => {
                 failure.get_or_insert(why);
                 for &f in &at_fault {
-                    ok[face_cluster[f as usize] as usize] = false;
+                    let c = face_cluster[f as usize] as usize;
+                    if ok[c] {
+                        ok[c] = false;
+                        reverted.push(c);
+                    }
                 }
                 culprits.extend(at_fault);
             }
+        }
+    }
+}
+
+/// The faces kept once clusters more are left uncut, from the patches,
+/// live faces and kept faces of the try before (the last two updated in
+/// place): the old faces `back` of those clusters live again and are kept,
+/// the pieces `gone` accepts die, and every patch with a live face at a
+/// corner of `back` is kept whole.
+///
+/// That is the verdict fresh patches would get. Patches join only through
+/// the faces that came back, and a patch holding one of them is always
+/// kept; a piece that went joined its patch only through an old corner of
+/// its cluster (its new corners are its cluster's alone), so what a patch
+/// splits into still reaches a corner of `back`. Every other patch keeps its
+/// faces, so its sample face and verdict. Two passes over the flags replace
+/// the disjoint sets, the face areas and the rays of a full try.
+#[allow(clippy::too_many_arguments)]
+fn leave_uncut(
+    faces: &[[u32; 3]],
+    n_old: usize,
+    first_piece: usize,
+    back: &[u32],
+    gone: impl Fn(usize) -> bool,
+    patch: &[u32],
+    alive: &mut [bool],
+    kept: &mut [bool],
+) {
+    let mut corner = vec![false; n_old];
+    for &f in back {
+        alive[f as usize] = true;
+        kept[f as usize] = true;
+        for k in faces[f as usize] {
+            corner[k as usize] = true;
+        }
+    }
+    for f in first_piece..faces.len() {
+        if alive[f] && gone(f) {
+            alive[f] = false;
+            kept[f] = false;
+        }
+    }
+    let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
+    let mut touched = vec![false; n_patches];
+    for (f, face) in faces.iter().enumerate() {
+        if alive[f]
+            && face
+                .iter()
+                .any(|&k| (k as usize) < n_old && corner[k as usize])
+        {
+            touched[patch[f] as usize] = true;
+        }
+    }
+    for (f, k) in kept.iter_mut().enumerate() {
+        if alive[f] && touched[patch[f] as usize] {
+            *k = true;
         }
     }
 }
@@ -813,8 +906,7 @@ fn patches(
 /// Whether each patch lies outside every other part: the winding number of
 /// the original surface without the face a sample point lies on, at that
 /// point, along one ray clear of every face's border or else by a vote of
-/// three rays. `known` holds the verdicts of sample faces already cast (by an
-/// earlier try of the same round) and gains the new ones.
+/// three rays.
 #[allow(clippy::too_many_arguments)]
 fn classify(
     faces: &[[u32; 3]],
@@ -826,7 +918,6 @@ fn classify(
     old_pos: &[P3],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
-    known: &mut FastMap<u32, bool>,
 ) -> Vec<bool> {
     let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
     // The largest face of each patch: its centroid is far from the cuts.
@@ -849,16 +940,13 @@ fn classify(
     for r in runs {
         bounds.add(&r.1);
     }
-    // Only the patches sampled at a face not seen before cast rays: a face's
-    // verdict depends on the old surface only, which no retry changes.
-    let mut fresh: Vec<u32> = best
+    // A patch of dead faces only has no sample, and is never kept.
+    let samples: Vec<u32> = best
         .iter()
         .map(|b| b.1)
-        .filter(|f| *f != u32::MAX && !known.contains_key(f))
+        .filter(|&f| f != u32::MAX)
         .collect();
-    fresh.sort_unstable();
-    fresh.dedup();
-    let verdicts = crate::parallel::map(&fresh, |&f| {
+    let verdicts = crate::parallel::map(&samples, |&f| {
         let t = faces[f as usize].map(|k| all_pos[k as usize]);
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
@@ -877,7 +965,7 @@ fn classify(
             let (w, near) = winding(c, d, skip, old_faces, old_pos, runs, bvh);
             // A first ray that passes clear of every face's border counts
             // exactly: it decides alone (on the 48 corpus files every first
-            // ray did: 59,641 rays instead of two or three per patch).
+            // ray did, which halved the rays cast).
             if k == 0 && !near {
                 return w == 0;
             }
@@ -888,10 +976,9 @@ fn classify(
         }
         votes[1] >= 2
     });
-    known.extend(fresh.into_iter().zip(verdicts));
+    let mut verdict = verdicts.into_iter();
     best.iter()
-        // A patch of dead faces only is never kept.
-        .map(|b| b.1 != u32::MAX && known[&b.1])
+        .map(|b| b.1 != u32::MAX && verdict.next().unwrap_or(false))
         .collect()
 }
 
