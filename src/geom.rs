@@ -341,10 +341,10 @@ pub fn ray_triangle(origin: P3, dir: P3, t: [P3; 3]) -> Option<f64> {
 const RAY_MARGIN: f64 = 1e-7;
 
 /// [`ray_triangle`], and whether the answer is near its edge: the ray passes
-/// within [`RAY_MARGIN`] of the triangle's border (a hit there may be counted
-/// by both faces on an edge, or by none), runs nearly in its plane, or meets
-/// it next to `origin`. A ray with no near answer on a closed surface counts
-/// it exactly.
+/// within 1e-7 (in barycentric coordinates) of the triangle's border (a hit
+/// there may be counted by both faces on an edge, or by none), runs nearly in
+/// its plane, or meets it next to `origin`. A ray with no near answer on a
+/// closed surface counts it exactly.
 pub fn ray_triangle_near(origin: P3, dir: P3, t: [P3; 3]) -> (Option<f64>, bool) {
     let e1 = sub(t[1], t[0]);
     let e2 = sub(t[2], t[0]);
