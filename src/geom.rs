@@ -350,7 +350,8 @@ pub fn ray_triangle_near(origin: P3, dir: P3, t: [P3; 3]) -> (Option<f64>, bool)
     let e2 = sub(t[2], t[0]);
     let p = cross(dir, e2);
     let det = dot(e1, p);
-    let scale = dot(e1, e1).max(dot(e2, e2)) * dot(dir, dir).sqrt();
+    let (edge_sq, dir_len) = (dot(e1, e1).max(dot(e2, e2)), dot(dir, dir).sqrt());
+    let scale = edge_sq * dir_len;
     if det.abs() <= 1e-14 * scale {
         return (None, true);
     }
@@ -369,7 +370,7 @@ pub fn ray_triangle_near(origin: P3, dir: P3, t: [P3; 3]) -> (Option<f64>, bool)
     let t_hit = dot(e2, q) * inv;
     let border =
         u <= RAY_MARGIN || u >= 1.0 - RAY_MARGIN || v <= RAY_MARGIN || u + v >= 1.0 - RAY_MARGIN;
-    let size = dot(e1, e1).max(dot(e2, e2)).sqrt() / dot(dir, dir).sqrt();
+    let size = edge_sq.sqrt() / dir_len;
     let near = flat || border || t_hit.abs() <= RAY_MARGIN * size;
     let inside = (-1e-12..=1.0 + 1e-12).contains(&u) && v >= -1e-12 && u + v <= 1.0 + 1e-12;
     ((inside && t_hit >= 0.0).then_some(t_hit), near)

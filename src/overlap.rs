@@ -538,11 +538,10 @@ fn union(
                 }
             })
             .collect();
-        let patch = patches(&faces, &alive, n_old as usize, &cut_edges);
+        let (patch, n_patches) = patches(&faces, &alive, n_old as usize, &cut_edges);
         // A patch holding faces of a cluster left uncut may lie partly
         // inside and partly outside: it is always kept (the proof then
         // finds any cut next to it that this leaves inconsistent).
-        let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
         let mut uncertain = vec![false; n_patches];
         for f in &in_clusters {
             if alive[*f as usize] {
@@ -554,6 +553,7 @@ fn union(
             &alive,
             &all_pos,
             &patch,
+            n_patches,
             &origin_of,
             &faces[..first_piece],
             &all_pos[..n_old as usize],
@@ -563,11 +563,16 @@ fn union(
         let kept: Vec<bool> = (0..faces.len())
             .map(|f| alive[f] && (uncertain[patch[f] as usize] || outside[patch[f] as usize]))
             .collect();
-        (patch, alive, kept)
+        Tried {
+            patch,
+            n_patches,
+            alive,
+            kept,
+        }
     };
     // The first try finds the patches and casts their rays; a try after a
     // failed proof only leaves more clusters uncut ([`leave_uncut`]).
-    let mut tried: Option<(Vec<u32>, Vec<bool>, Vec<bool>)> = None;
+    let mut tried: Option<Tried> = None;
     let mut reverted: Vec<usize> = Vec::new();
     loop {
         if !ok.contains(&true) {
@@ -588,18 +593,16 @@ fn union(
                     first_piece,
                     &back,
                     |f| !ok[piece_cluster[f - first_piece] as usize],
-                    &t.0,
-                    &mut t.1,
-                    &mut t.2,
+                    t,
                 );
                 reverted.clear();
                 debug_assert!(
-                    full_try(&ok).2 == t.2,
+                    full_try(&ok).kept == t.kept,
                     "leaving clusters uncut keeps what a full try keeps"
                 );
             }
         }
-        let Some((_, _, kept)) = &tried else {
+        let Some(Tried { kept, .. }) = &tried else {
             unreachable!("the first try fills it")
         };
         let cluster_of_vertex = |v: u32| new_cluster[(v - n_old) as usize];
@@ -684,11 +687,20 @@ fn union(
     }
 }
 
-/// The faces kept once clusters more are left uncut, from the patches,
-/// live faces and kept faces of the try before (the last two updated in
-/// place): the old faces `back` of those clusters live again and are kept,
-/// the pieces `gone` accepts die, and every patch with a live face at a
-/// corner of `back` is kept whole.
+/// One try of the union: the patches (numbered `0..n_patches`) with the
+/// clusters cut then, the live faces and the kept ones.
+struct Tried {
+    patch: Vec<u32>,
+    n_patches: usize,
+    alive: Vec<bool>,
+    kept: Vec<bool>,
+}
+
+/// The faces kept once clusters more are left uncut, updating the try
+/// before in place (its patches stay as they were numbered): the old faces
+/// `back` of those clusters live again and are kept, the pieces `gone`
+/// accepts die, and every patch with a live face at a corner of `back` is
+/// kept whole.
 ///
 /// That is the verdict fresh patches would get. Patches join only through
 /// the faces that came back, and a patch holding one of them is always
@@ -697,17 +709,20 @@ fn union(
 /// splits into still reaches a corner of `back`. Every other patch keeps its
 /// faces, so its sample face and verdict. Two passes over the flags replace
 /// the disjoint sets, the face areas and the rays of a full try.
-#[allow(clippy::too_many_arguments)]
 fn leave_uncut(
     faces: &[[u32; 3]],
     n_old: usize,
     first_piece: usize,
     back: &[u32],
     gone: impl Fn(usize) -> bool,
-    patch: &[u32],
-    alive: &mut [bool],
-    kept: &mut [bool],
+    tried: &mut Tried,
 ) {
+    let Tried {
+        patch,
+        n_patches,
+        alive,
+        kept,
+    } = tried;
     let mut corner = vec![false; n_old];
     for &f in back {
         alive[f as usize] = true;
@@ -722,8 +737,7 @@ fn leave_uncut(
             kept[f] = false;
         }
     }
-    let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
-    let mut touched = vec![false; n_patches];
+    let mut touched = vec![false; *n_patches];
     for (f, face) in faces.iter().enumerate() {
         if alive[f]
             && face
@@ -823,8 +837,9 @@ fn assemble(
 
 /// Patch number of every face: faces joined through an old vertex (a cut
 /// never passes through one) or through an uncut edge between new vertices
-/// (an edge with an old end joins its faces through that end). Numbered in
-/// order of their first face; a dead face is a patch of its own.
+/// (an edge with an old end joins its faces through that end), and the
+/// number of patches. Numbered in order of their first face; a dead face is
+/// a patch of its own.
 ///
 /// The disjoint sets are over the old vertices, a face standing for its
 /// first old one, plus one set per live face with none: half the items of
@@ -834,7 +849,7 @@ fn patches(
     alive: &[bool],
     n_old_vertices: usize,
     cut_edges: &FastSet<(u32, u32)>,
-) -> Vec<u32> {
+) -> (Vec<u32>, usize) {
     let n_old = n_old_vertices as u32;
     // Live faces without an old corner, in order, after the old vertices.
     let mut extra = 0u32;
@@ -889,7 +904,8 @@ fn patches(
         next += 1;
         next - 1
     };
-    node.iter()
+    let patch = node
+        .iter()
         .map(|&k| {
             if k == u32::MAX {
                 return fresh();
@@ -900,7 +916,8 @@ fn patches(
             }
             number[root]
         })
-        .collect()
+        .collect();
+    (patch, next as usize)
 }
 
 /// Whether each patch lies outside every other part: the winding number of
@@ -913,13 +930,13 @@ fn classify(
     alive: &[bool],
     all_pos: &[P3],
     patch: &[u32],
+    n_patches: usize,
     origin_of: &(impl Fn(usize) -> u32 + Sync),
     old_faces: &[[u32; 3]],
     old_pos: &[P3],
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
 ) -> Vec<bool> {
-    let n_patches = patch.iter().copied().max().map_or(0, |m| m as usize + 1);
     // The largest face of each patch: its centroid is far from the cuts.
     // (Measured per live face in one pass: a separate parallel pass over the
     // areas was slower, on one thread and on two, for the array it fills.)

@@ -50,15 +50,7 @@ pub fn thread_count(threads: Option<usize>) -> crate::Result<usize> {
 
 /// `items.iter().map(f).collect()`, in parallel when available, order kept.
 pub fn map<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> Vec<U> {
-    #[cfg(feature = "parallel")]
-    {
-        use rayon::prelude::*;
-        items.par_iter().map(f).collect()
-    }
-    #[cfg(not(feature = "parallel"))]
-    {
-        items.iter().map(f).collect()
-    }
+    map_with_room(items, 0, f)
 }
 
 /// [`map`] into a vector with room for `room` more items, so a caller that

@@ -7,8 +7,9 @@
 //! the direction the tip was born with, with a spacing proportional to its
 //! radius (as dense tracings have), tapers slowly, may fork (the child leaves
 //! 25 to 70 degrees off, thinner) and may end; one tip always survives until
-//! the requested number of samples is reached. The same `(samples, seed)` always gives the same text,
-//! and a larger tree of a seed starts with the smaller one's rounds.
+//! the requested number of samples is reached. The same `(samples, seed)`
+//! always gives the same text, and a larger tree of a seed starts with the
+//! smaller one's rounds.
 //!
 //! The arbor's density stays bounded as it grows, as a real cell's does: forks
 //! stop while [`MAX_TIPS`] tips are alive, and the pull to each tip's heading
