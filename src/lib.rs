@@ -41,6 +41,7 @@ pub mod params;
 pub mod piece;
 pub mod planar;
 pub mod plausibility;
+mod proof;
 pub mod soma;
 pub mod splice;
 pub mod spline;

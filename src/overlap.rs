@@ -44,6 +44,7 @@ use crate::cut::{self, Cuts};
 use crate::geom::{self, P3};
 use crate::hash::{FastMap, FastSet};
 use crate::mesh::Mesh;
+use crate::proof::{Near, Proven, prove};
 
 /// Faces per BVH item: runs of consecutive faces of one part.
 const RUN: usize = 16;
@@ -574,6 +575,7 @@ fn union(
     // failed proof only leaves more clusters uncut ([`leave_uncut`]).
     let mut tried: Option<Tried> = None;
     let mut reverted: Vec<usize> = Vec::new();
+    let mut proven = Proven::default();
     loop {
         if !ok.contains(&true) {
             faces.truncate(first_piece);
@@ -611,15 +613,25 @@ fn union(
             bvh,
             in_cluster: &face_cluster,
         };
-        match prove(
-            &faces,
-            kept,
-            &all_pos,
-            first_piece,
-            n_old,
-            &origin_of,
-            &near,
-        ) {
+        let proof = |proven: &mut Proven| {
+            prove(
+                &faces,
+                kept,
+                &all_pos,
+                first_piece,
+                n_old,
+                &origin_of,
+                &near,
+                proven,
+            )
+        };
+        let later = proven.has_tested();
+        let proved = proof(&mut proven);
+        debug_assert!(
+            !later || proved == proof(&mut Proven::default()),
+            "a proof that only tests what changed finds what a whole proof finds"
+        );
+        match proved {
             Ok(()) => {
                 let left: usize = (0..clusters.len())
                     .filter(|&c| !ok[c])
@@ -1081,187 +1093,6 @@ fn winding(
         }
     });
     (w, near)
-}
-
-/// The old faces around the pieces, for [`prove`]: the round's runs and
-/// their BVH, and the cluster of each old face (`u32::MAX`: in none).
-struct Near<'a> {
-    runs: &'a [(std::ops::Range<u32>, Aabb)],
-    bvh: &'a Bvh,
-    in_cluster: &'a [u32],
-}
-
-/// Checks the kept faces around the new vertices: every edge there shared by
-/// two kept faces in opposite directions, one fan per vertex, no sliver, and,
-/// once rounded to f32, no two kept pieces crossing each other and no kept
-/// piece crossing an old face outside the clusters (of whatever part: a piece
-/// of a tube that crosses a face of its own tube is caught here too). On
-/// failure, the old faces at fault (`origin_of` names the old face of a
-/// piece).
-fn prove(
-    faces: &[[u32; 3]],
-    kept: &[bool],
-    all_pos: &[P3],
-    first_piece: usize,
-    n_old: u32,
-    origin_of: &(impl Fn(usize) -> u32 + Sync),
-    near: &Near,
-) -> Result<(), (&'static str, Vec<u32>)> {
-    let is_new = |v: u32| v >= n_old;
-    let mut uses: FastMap<(u32, u32), (u32, u32)> = FastMap::default();
-    // Around each new vertex: (next, previous) vertex and face of each kept face.
-    let mut fan: FastMap<u32, Vec<(u32, u32, u32)>> = FastMap::default();
-    let pieces: Vec<u32> = (first_piece..faces.len())
-        .filter(|&f| kept[f])
-        .map(|f| f as u32)
-        .collect();
-    for &f in &pieces {
-        let face = faces[f as usize];
-        for e in 0..3 {
-            let (a, b) = (face[e], face[(e + 1) % 3]);
-            if !(is_new(a) || is_new(b)) {
-                continue;
-            }
-            let u = uses.entry((a.min(b), a.max(b))).or_insert((0, 0));
-            if a < b {
-                u.0 += 1;
-            } else {
-                u.1 += 1;
-            }
-            if is_new(a) {
-                fan.entry(a).or_default().push((b, face[(e + 2) % 3], f));
-            }
-        }
-    }
-    // The old faces around new vertex `v`.
-    let around = |v: u32| -> Vec<u32> {
-        fan.get(&v)
-            .map(|x| x.iter().map(|t| origin_of(t.2 as usize)).collect())
-            .unwrap_or_default()
-    };
-    let mut bad: Vec<u32> = uses
-        .iter()
-        .filter(|(_, u)| **u != (1, 1))
-        .flat_map(|(e, _)| around(if is_new(e.0) { e.0 } else { e.1 }))
-        .collect();
-    let mut why = "the kept faces are not manifold along a cut";
-    // Two fans touching at a vertex pass the edge test: walk each vertex's
-    // faces from one to the next across shared edges; all must be reached.
-    for (&v, ring) in &fan {
-        let (start, _, _) = ring[0];
-        let mut next = start;
-        let mut steps = 0;
-        // The face whose previous vertex is `next` follows.
-        while let Some(&(n, _, _)) = ring.iter().find(|x| x.1 == next) {
-            next = n;
-            steps += 1;
-            if next == start || steps > ring.len() {
-                break;
-            }
-        }
-        if steps != ring.len() {
-            bad.extend(around(v));
-        }
-    }
-    let round = |p: P3| p.map(|x| f64::from(x as f32));
-    let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
-    if bad.is_empty() {
-        // No sliver the checker would call degenerate (as `check` measures it).
-        use crate::mesh::{cross, dot, sub};
-        for &f in &pieces {
-            let [a, b, c] = tri(f);
-            let (e1, e2, e3) = (sub(b, a), sub(c, a), sub(c, b));
-            let longest = dot(e1, e1).max(dot(e2, e2)).max(dot(e3, e3));
-            let n = cross(e1, e2);
-            if dot(n, n).sqrt() <= 1e-9 * longest {
-                bad.push(origin_of(f as usize));
-            }
-        }
-        why = "a cut face's piece is a sliver";
-    }
-    if bad.is_empty() {
-        // Rounded to f32, the kept pieces must still clear each other. The
-        // pieces of one face do: they are a triangulation of its rounded
-        // points projected to a plane (see `cut::retriangulate`), and two
-        // lifted triangles can only meet where their projections do, at a
-        // shared vertex or edge.
-        let bvh = Bvh::new(pieces.iter().map(|&f| Aabb::of(&tri(f))).collect());
-        let crossing = bvh.overlapping_pairs(|i, j| {
-            let (a, b) = (pieces[i as usize], pieces[j as usize]);
-            origin_of(a as usize) != origin_of(b as usize)
-                && crate::check::pair_intersects(
-                    faces[a as usize],
-                    faces[b as usize],
-                    tri(a),
-                    tri(b),
-                )
-        });
-        for [i, j] in crossing {
-            bad.push(origin_of(pieces[i as usize] as usize));
-            bad.push(origin_of(pieces[j as usize] as usize));
-        }
-        why = "rounded to f32, two kept pieces cross";
-    }
-    if bad.is_empty() {
-        // Nor may a kept piece cross an old face left as it was. The old
-        // faces sit in the round's BVH at their own (f32) coordinates.
-        // The pieces of one old face are consecutive: the old faces near
-        // them are looked up once, with the box of all of them.
-        let mut groups: Vec<std::ops::Range<usize>> = Vec::new();
-        for k in 0..pieces.len() {
-            match groups.last_mut() {
-                Some(g) if origin_of(pieces[g.start] as usize) == origin_of(pieces[k] as usize) => {
-                    g.end = k + 1;
-                }
-                _ => groups.push(k..k + 1),
-            }
-        }
-        let crossing = crate::parallel::flat_map_range(groups.len(), |g| {
-            let group = &pieces[groups[g].clone()];
-            let mut bounds = Aabb::EMPTY;
-            for &p in group {
-                bounds.add(&Aabb::of(&tri(p)));
-            }
-            let mut near_faces: Vec<(u32, [P3; 3], Aabb)> = Vec::new();
-            near.bvh.for_each_overlap(&bounds, |i| {
-                for b in near.runs[i as usize].0.clone() {
-                    if !kept[b as usize] || near.in_cluster[b as usize] != u32::MAX {
-                        continue;
-                    }
-                    let tb = tri(b);
-                    let bb = Aabb::of(&tb);
-                    if bb.overlaps(&bounds) {
-                        near_faces.push((b, tb, bb));
-                    }
-                }
-            });
-            if near_faces.is_empty() {
-                return Vec::new();
-            }
-            let hit = group.iter().any(|&p| {
-                let tp = tri(p);
-                let bp = Aabb::of(&tp);
-                near_faces.iter().any(|(b, tb, bb)| {
-                    bp.overlaps(bb)
-                        && crate::check::pair_intersects(
-                            faces[p as usize],
-                            faces[*b as usize],
-                            tp,
-                            *tb,
-                        )
-                })
-            });
-            if hit { vec![group[0]] } else { Vec::new() }
-        });
-        bad.extend(crossing.iter().map(|&p| origin_of(p as usize)));
-        why = "rounded to f32, a kept piece crosses a face";
-    }
-    if bad.is_empty() {
-        return Ok(());
-    }
-    bad.sort_unstable();
-    bad.dedup();
-    Err((why, bad))
 }
 
 #[cfg(test)]
