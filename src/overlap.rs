@@ -621,6 +621,7 @@ fn union(
                 first_piece,
                 n_old,
                 &origin_of,
+                &piece_cluster,
                 &near,
                 proven,
             )
