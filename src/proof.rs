@@ -36,11 +36,29 @@ pub(crate) struct Near<'a> {
 #[derive(Debug, Default)]
 pub(crate) struct Proven {
     /// The faces kept when the edges and fans at new vertices were tested.
-    edges: Option<Vec<bool>>,
+    edges: Option<Kept>,
     /// The faces kept when the pieces were last tested against each other.
-    pieces: Option<Vec<bool>>,
+    pieces: Option<Kept>,
     /// The faces kept when the pieces were last tested against old faces.
-    old_faces: Option<Vec<bool>>,
+    old_faces: Option<Kept>,
+}
+
+/// Which faces were kept, a bit each (a million-sample tree has 72 M faces).
+#[derive(Debug)]
+struct Kept(Vec<u64>);
+
+impl Kept {
+    fn of(kept: &[bool]) -> Kept {
+        let mut bits = vec![0u64; kept.len().div_ceil(64)];
+        for (f, _) in kept.iter().enumerate().filter(|k| *k.1) {
+            bits[f / 64] |= 1 << (f % 64);
+        }
+        Kept(bits)
+    }
+
+    fn has(&self, f: usize) -> bool {
+        self.0[f / 64] >> (f % 64) & 1 == 1
+    }
 }
 
 impl Proven {
@@ -88,7 +106,7 @@ pub(crate) fn prove(
         let n = piece_cluster.iter().max().map_or(0, |&c| c as usize + 1);
         let mut changed = vec![false; n];
         for f in first_piece..faces.len() {
-            if kept[f] != before[f] {
+            if kept[f] != before.has(f) {
                 changed[piece_cluster[f - first_piece] as usize] = true;
             }
         }
@@ -148,7 +166,7 @@ pub(crate) fn prove(
             bad.extend(around(v));
         }
     }
-    proven.edges = Some(kept.to_vec());
+    proven.edges = Some(Kept::of(kept));
     let round = |p: P3| p.map(|x| f64::from(x as f32));
     let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
     let crossing = |a: u32, b: u32| {
@@ -190,12 +208,12 @@ pub(crate) fn prove(
                 let fresh: Vec<u32> = pieces
                     .iter()
                     .copied()
-                    .filter(|&f| !before[f as usize])
+                    .filter(|&f| !before.has(f as usize))
                     .collect();
                 let bvh = Bvh::new(fresh.iter().map(|&f| Aabb::of(&tri(f))).collect());
                 crate::parallel::flat_map_range(pieces.len(), |k| {
                     let a = pieces[k];
-                    let a_fresh = !before[a as usize];
+                    let a_fresh = !before.has(a as usize);
                     let mut out = Vec::new();
                     bvh.for_each_overlap(&Aabb::of(&tri(a)), |i| {
                         let b = fresh[i as usize];
@@ -208,7 +226,7 @@ pub(crate) fn prove(
                 })
             }
         };
-        proven.pieces = Some(kept.to_vec());
+        proven.pieces = Some(Kept::of(kept));
         bad.extend(pairs.iter().flatten().map(|&p| origin_of(p as usize)));
         why = "rounded to f32, two kept pieces cross";
     }
@@ -224,19 +242,19 @@ pub(crate) fn prove(
                 let fresh: Vec<u32> = pieces
                     .iter()
                     .copied()
-                    .filter(|&f| !before[f as usize])
+                    .filter(|&f| !before.has(f as usize))
                     .collect();
                 let mut hits =
                     pieces_crossing_old(&fresh, near, &tri, &crossing, origin_of, &outside);
                 let fresh_old: Vec<u32> = (0..first_piece as u32)
-                    .filter(|&b| outside(b) && !before[b as usize])
+                    .filter(|&b| outside(b) && !before.has(b as usize))
                     .collect();
                 if !fresh_old.is_empty() {
                     let bvh = Bvh::new(fresh_old.iter().map(|&f| Aabb::of(&tri(f))).collect());
                     hits.extend(crate::parallel::flat_map_range(pieces.len(), |k| {
                         let p = pieces[k];
                         let mut hit = false;
-                        if before[p as usize] {
+                        if before.has(p as usize) {
                             bvh.for_each_overlap(&Aabb::of(&tri(p)), |i| {
                                 hit = hit || crossing(p, fresh_old[i as usize]);
                             });
@@ -247,7 +265,7 @@ pub(crate) fn prove(
                 hits
             }
         };
-        proven.old_faces = Some(kept.to_vec());
+        proven.old_faces = Some(Kept::of(kept));
         bad.extend(hits.iter().map(|&p| origin_of(p as usize)));
         why = "rounded to f32, a kept piece crosses a face";
     }
