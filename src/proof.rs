@@ -76,9 +76,10 @@ impl Proven {
 /// failure, the old faces at fault (`origin_of` names the old face of a
 /// piece).
 ///
-/// The two crossing tests only look at pairs with a face kept since the
-/// test last ran to its end in this round (`proven`, updated here): see
-/// [`Proven`].
+/// Each test only looks at what a change of verdicts since it last ran to
+/// its end in this round can have changed (`proven`, updated here): the
+/// edges and fans of the clusters with a piece kept or dropped since, the
+/// crossing pairs with a face kept since. See [`Proven`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn prove(
     faces: &[[u32; 3]],
