@@ -343,9 +343,14 @@ impl UnionFind {
     }
     pub(crate) fn union(&mut self, a: u32, b: u32) {
         let (ra, rb) = (self.find(a), self.find(b));
+        self.link(ra, rb);
+    }
+    /// Joins the sets of the roots `ra` and `rb`; the root of the whole.
+    pub(crate) fn link(&mut self, ra: u32, rb: u32) -> u32 {
         if ra != rb {
             self.0[ra.max(rb) as usize] = ra.min(rb);
         }
+        ra.min(rb)
     }
 }
 

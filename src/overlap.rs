@@ -889,11 +889,15 @@ fn patches(
         if here == u32::MAX {
             continue;
         }
+        // The face's set's root, carried from corner to corner: one find
+        // per corner instead of two per union.
+        let mut root = uf.find(here);
         for e in 0..3 {
             let (v, w) = (face[e], face[(e + 1) % 3]);
             if v < n_old {
                 if v != here {
-                    uf.union(here, v);
+                    let rv = uf.find(v);
+                    root = uf.link(root, rv);
                 }
                 continue;
             }
@@ -905,7 +909,8 @@ fn patches(
                 continue;
             }
             if let Some(&other) = new_edges.get(&key) {
-                uf.union(other, here);
+                let ro = uf.find(other);
+                root = uf.link(root, ro);
             } else {
                 new_edges.insert(key, here);
             }
