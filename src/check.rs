@@ -504,8 +504,11 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
 pub fn face_components(mesh: &MeshView<'_>) -> Vec<u32> {
     let mut uf = UnionFind::new(mesh.vertices.len());
     for f in mesh.faces {
-        uf.union(f[0], f[1]);
-        uf.union(f[1], f[2]);
+        // The first corner's root carried on: three finds a face, not four.
+        let (r0, r1) = (uf.find(f[0]), uf.find(f[1]));
+        let root = uf.link(r0, r1);
+        let r2 = uf.find(f[2]);
+        uf.link(root, r2);
     }
     // Numbered by first appearance, through a table indexed by root.
     let mut number = vec![u32::MAX; mesh.vertices.len()];
