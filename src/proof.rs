@@ -59,6 +59,15 @@ impl Kept {
     fn has(&self, f: usize) -> bool {
         self.0[f / 64] >> (f % 64) & 1 == 1
     }
+
+    /// The faces of `faces` that were not kept then.
+    fn not_in(&self, faces: &[u32]) -> Vec<u32> {
+        faces
+            .iter()
+            .copied()
+            .filter(|&f| !self.has(f as usize))
+            .collect()
+    }
 }
 
 impl Proven {
@@ -170,6 +179,8 @@ pub(crate) fn prove(
     proven.edges = Some(Kept::of(kept));
     let round = |p: P3| p.map(|x| f64::from(x as f32));
     let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
+    // A BVH over the rounded triangles of `which`.
+    let bvh_of = |which: &[u32]| Bvh::new(which.iter().map(|&f| Aabb::of(&tri(f))).collect());
     let crossing = |a: u32, b: u32| {
         crate::check::pair_intersects(faces[a as usize], faces[b as usize], tri(a), tri(b))
     };
@@ -196,7 +207,7 @@ pub(crate) fn prove(
         let apart = |a: u32, b: u32| origin_of(a as usize) != origin_of(b as usize);
         let pairs: Vec<[u32; 2]> = match &proven.pieces {
             None => {
-                let bvh = Bvh::new(pieces.iter().map(|&f| Aabb::of(&tri(f))).collect());
+                let bvh = bvh_of(&pieces);
                 bvh.overlapping_pairs(|i, j| {
                     let (a, b) = (pieces[i as usize], pieces[j as usize]);
                     apart(a, b) && crossing(a, b)
@@ -206,12 +217,8 @@ pub(crate) fn prove(
                 .collect()
             }
             Some(before) => {
-                let fresh: Vec<u32> = pieces
-                    .iter()
-                    .copied()
-                    .filter(|&f| !before.has(f as usize))
-                    .collect();
-                let bvh = Bvh::new(fresh.iter().map(|&f| Aabb::of(&tri(f))).collect());
+                let fresh = before.not_in(&pieces);
+                let bvh = bvh_of(&fresh);
                 crate::parallel::flat_map_range(pieces.len(), |k| {
                     let a = pieces[k];
                     let a_fresh = !before.has(a as usize);
@@ -240,18 +247,14 @@ pub(crate) fn prove(
             Some(before) => {
                 // Pieces kept since, against every old face; the other
                 // pieces, against the old faces kept since.
-                let fresh: Vec<u32> = pieces
-                    .iter()
-                    .copied()
-                    .filter(|&f| !before.has(f as usize))
-                    .collect();
+                let fresh = before.not_in(&pieces);
                 let mut hits =
                     pieces_crossing_old(&fresh, near, &tri, &crossing, origin_of, &outside);
                 let fresh_old: Vec<u32> = (0..first_piece as u32)
                     .filter(|&b| outside(b) && !before.has(b as usize))
                     .collect();
                 if !fresh_old.is_empty() {
-                    let bvh = Bvh::new(fresh_old.iter().map(|&f| Aabb::of(&tri(f))).collect());
+                    let bvh = bvh_of(&fresh_old);
                     hits.extend(crate::parallel::flat_map_range(pieces.len(), |k| {
                         let p = pieces[k];
                         let mut hit = false;
