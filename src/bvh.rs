@@ -233,7 +233,19 @@ impl Bvh {
     }
 
     /// Calls `f` with every item whose box overlaps `query`.
-    pub fn for_each_overlap(&self, query: &Aabb, mut f: impl FnMut(u32)) {
+    pub fn for_each_overlap(&self, query: &Aabb, f: impl FnMut(u32)) {
+        self.for_each_where(|b| b.overlaps(query), f);
+    }
+
+    /// Calls `f` with every item whose box contains `query`.
+    pub fn for_each_containing(&self, query: &Aabb, f: impl FnMut(u32)) {
+        self.for_each_where(|b| b.contains(query), f);
+    }
+
+    /// Calls `f` with every item whose box passes `test`, where a box that
+    /// fails it has no sub-box that passes (overlap or containment of a
+    /// query box).
+    fn for_each_where(&self, test: impl Fn(&Aabb) -> bool, mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -242,13 +254,13 @@ impl Bvh {
         while top > 0 {
             top -= 1;
             let node = &self.nodes[stack[top] as usize];
-            if !node.bounds.overlaps(query) {
+            if !test(&node.bounds) {
                 continue;
             }
             if node.count > 0 {
                 let s = node.start as usize;
                 for &i in &self.items[s..s + node.count as usize] {
-                    if self.boxes[i as usize].overlaps(query) {
+                    if test(&self.boxes[i as usize]) {
                         f(i);
                     }
                 }

@@ -15,11 +15,31 @@
 //!   area is `Σ A_i · (fraction of i's points outside all others)`. Where two
 //!   primitives share a piece of surface (consecutive cones share their joint's
 //!   sphere) a point on both counts for the lower index only.
-//! * **Volume**: points uniform inside `i` that lie in no primitive of lower
-//!   index partition the union: `V = Σ V_i · (fraction outside all j < i)`.
+//! * **Volume**: a point uniform inside `i` is weighted by one over the
+//!   number of primitives holding it, so that `V = Σ V_i · (mean weight)`.
 //!
-//! With the default number of samples the relative standard error is about
-//! 0.2 %; results are identical from run to run.
+//! Three things keep the estimate precise where primitives pile up, as on
+//! the blob cells ([`crate::blob`]), whose unions are hundreds of nearly
+//! concentric spheres:
+//!
+//! * Primitives that another single primitive contains are left out first
+//!   (they add nothing): two thirds of the cones of a blob cell.
+//! * The volume's weights: counting only the points in no primitive of lower
+//!   index has the same mean, but where hundreds of primitives overlap nearly
+//!   every point counts zero and the rare ones decide.
+//! * The surface points come in two rounds. A pilot spreads them in
+//!   proportion to each part's area; the main round, the only one counted,
+//!   in proportion to the area times the standard deviation of the pilot's
+//!   hit rate (Neyman allocation), so buried parts get few points and
+//!   exposed ones many. The primitives are ordered largest first, so the
+//!   tests stop at the first (largest) primitive that covers a point.
+//!
+//! Over three seeds, the estimates spread (largest less smallest, over the
+//! mean) by 0.5 % in area and 0.2 % in volume on the fly larva A00b, an
+//! ordinary cell. The blob cells stay unsure in area: 14 % on the
+//! 66,578-sample CAR cell (60 % before these steps) and 4 % on CAR 00148
+//! (10 %); in volume 2.1 % (9 %) and 0.1 % (1.5 %). Results are identical
+//! from run to run.
 
 use glam::DVec3;
 
@@ -49,7 +69,9 @@ pub struct UnionMeasures {
     pub volume: f64,
 }
 
-/// Surface samples over the whole union (volume samples likewise).
+/// Surface points over the whole union (volume points likewise), for the
+/// pilot that sets how the main points are spread, and for the estimate.
+const PILOT: usize = 100_000;
 const SAMPLES: usize = 200_000;
 
 impl RoundCone {
@@ -134,11 +156,13 @@ impl RoundCone {
         )
     }
 
+    /// The box of the two end spheres, which is the cone's own: the
+    /// extent of a convex hull in any direction is its parts' largest.
     fn aabb(&self) -> Aabb {
-        let r = DVec3::splat(self.ra.max(self.rb));
+        let (ra, rb) = (DVec3::splat(self.ra), DVec3::splat(self.rb));
         Aabb::of(&[
-            (self.a.min(self.b) - r).to_array(),
-            (self.a.max(self.b) + r).to_array(),
+            (self.a - ra).min(self.b - rb).to_array(),
+            (self.a + ra).max(self.b + rb).to_array(),
         ])
     }
 }
@@ -186,57 +210,156 @@ pub fn measure_morphology(m: &Morphology) -> UnionMeasures {
 
 /// Measures of the union of `cones` (see the module documentation).
 pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
-    let cones: Vec<RoundCone> = cones.iter().map(|c| c.normalised()).collect();
+    let cones = exposed(cones);
     if cones.is_empty() {
         return UnionMeasures::default();
     }
-    // Which primitives may contain a point of a given one: box overlaps.
-    let boxes: Vec<Aabb> = cones.iter().map(RoundCone::aabb).collect();
-    let bvh = Bvh::new(boxes.clone());
-    let parts: Vec<([f64; 3], f64, f64)> = cones.iter().map(RoundCone::parts).collect();
-    let total_area: f64 = parts.iter().map(|p| p.0.iter().sum::<f64>()).sum();
-    let total_volume: f64 = parts.iter().map(|p| p.1).sum();
-    let scale = cones
+    let sampler = Sampler::new(&cones);
+    // Each primitive's three surface parts and its volume, measured exactly.
+    let sizes: Vec<[f64; 4]> = sampler
+        .parts
         .iter()
-        .map(|c| c.ra.max(c.rb))
-        .fold(0.0, f64::max)
-        .max(1e-300);
-    let eps = 1e-9 * scale;
-    let per_cone: Vec<(f64, f64)> = crate::parallel::flat_map_range(cones.len(), |i| {
-        let mut rng = Rng::new(0x5EED ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        .map(|&(a, v, _)| [a[0], a[1], a[2], v])
+        .collect();
+    let totals = sizes
+        .iter()
+        .fold([0.0; 2], |t, s| [t[0] + s[0] + s[1] + s[2], t[1] + s[3]]);
+    let total_of = |k: usize| totals[usize::from(k == 3)];
+    // The pilot: points on the surface in proportion to each part's area.
+    let pilot: Vec<[u32; 4]> = sizes
+        .iter()
+        .map(|s| {
+            std::array::from_fn(|k| {
+                if k == 3 {
+                    0
+                } else {
+                    samples_for(s[k], total_of(k), PILOT)
+                }
+            })
+        })
+        .collect();
+    let pilot_hits =
+        crate::parallel::flat_map_range(cones.len(), |i| vec![sampler.hits(i, pilot[i], 1)]);
+    // Neyman allocation: the surface points go where the product of a part's
+    // area and the standard deviation of its hit rate is large. On an
+    // ordinary cell that is about in proportion to the area; on a blob cell,
+    // whose primitives lie nearly all inside others, it is the few that show.
+    // The volume points stay in proportion to the volumes (their weights do
+    // not vary as much as hits do).
+    let spread: Vec<[f64; 4]> = (0..cones.len())
+        .map(|i| {
+            std::array::from_fn(|k| {
+                let f = (pilot_hits[i][k] + 0.5) / (f64::from(pilot[i][k]) + 1.0);
+                sizes[i][k] * (f * (1.0 - f)).sqrt()
+            })
+        })
+        .collect();
+    let spread_totals = spread
+        .iter()
+        .fold([0.0; 2], |t, s| [t[0] + s[0] + s[1] + s[2], 0.0]);
+    let main: Vec<[u32; 4]> = spread
+        .iter()
+        .zip(&sizes)
+        .map(|(s, size)| {
+            let mut n: [u32; 4] =
+                std::array::from_fn(|k| samples_for(s[k], spread_totals[0], SAMPLES));
+            n[3] = samples_for(size[3], totals[1], SAMPLES);
+            n
+        })
+        .collect();
+    // Only the main points are counted: the pilot's chose their number, so
+    // pooling them would bias the estimate.
+    let per_cone = crate::parallel::flat_map_range(cones.len(), |i| {
+        let hits = sampler.hits(i, main[i], 2);
+        let part = |k: usize| {
+            if main[i][k] == 0 {
+                0.0
+            } else {
+                sizes[i][k] * hits[k] / f64::from(main[i][k])
+            }
+        };
+        vec![(part(0) + part(1) + part(2), part(3))]
+    });
+    UnionMeasures {
+        area: per_cone.iter().map(|p| p.0).sum(),
+        volume: per_cone.iter().map(|p| p.1).sum(),
+    }
+}
+
+/// Random points on and in the primitives, and which of them count.
+struct Sampler<'a> {
+    cones: &'a [RoundCone],
+    boxes: Vec<Aabb>,
+    bvh: Bvh,
+    /// [`RoundCone::parts`] of each primitive.
+    parts: Vec<([f64; 3], f64, f64)>,
+    /// Distance under which a surface point counts as on another surface.
+    eps: f64,
+}
+
+impl<'a> Sampler<'a> {
+    fn new(cones: &'a [RoundCone]) -> Sampler<'a> {
+        // Which primitives may contain a point of a given one: box overlaps.
+        let boxes: Vec<Aabb> = cones.iter().map(RoundCone::aabb).collect();
+        let bvh = Bvh::new(boxes.clone());
+        let scale = cones
+            .iter()
+            .map(|c| c.ra.max(c.rb))
+            .fold(0.0, f64::max)
+            .max(1e-300);
+        Sampler {
+            cones,
+            boxes,
+            bvh,
+            parts: cones.iter().map(RoundCone::parts).collect(),
+            eps: 1e-9 * scale,
+        }
+    }
+
+    /// Of `n[k]` random points on part `k` of primitive `i` (`k` < 3: cap at
+    /// a, lateral, cap at b), how many count: those strictly inside no other
+    /// primitive (a point on two surfaces counts for the lower index); and of
+    /// `n[3]` random points inside it, the sum of their weights, one over the
+    /// number of primitives that hold each. Round `round` draws its own
+    /// points.
+    fn hits(&self, i: usize, n: [u32; 4], round: u64) -> [f64; 4] {
+        let cones = self.cones;
+        let mut rng = Rng::new(
+            0x5EED
+                ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                ^ round.wrapping_mul(0xD1B5_4A32_D192_ED03),
+        );
         let c = &cones[i];
-        let (areas, volume, sin) = parts[i];
+        let (_, _, sin) = self.parts[i];
         let (e1, e2, u, d) = frame(c);
         let mut near = Vec::new();
-        bvh.for_each_overlap(&boxes[i], |j| {
+        self.bvh.for_each_overlap(&self.boxes[i], |j| {
             if j as usize != i {
                 near.push(j);
             }
         });
-        // Area: each part sampled in proportion to its area.
-        let mut area = 0.0;
-        for (part, &a_part) in areas.iter().enumerate() {
-            if a_part <= 0.0 {
-                continue;
-            }
-            let n = samples_for(a_part, total_area);
-            let mut outside = 0usize;
-            for _ in 0..n {
+        // Larger primitives first (the order of the indices): they cover most
+        // points, so the tests below stop early.
+        near.sort_unstable();
+        let mut hits = [0.0; 4];
+        for part in 0..3 {
+            for _ in 0..n[part] {
                 let p = surface_point(c, part, sin, (e1, e2, u, d), &mut rng);
                 let covered = near.iter().any(|&j| {
                     let s = cones[j as usize].sdf(p);
-                    s < -eps || (s <= eps && (j as usize) < i)
+                    s < -self.eps || (s <= self.eps && (j as usize) < i)
                 });
-                outside += usize::from(!covered);
+                hits[part] += f64::from(u8::from(!covered));
             }
-            area += a_part * outside as f64 / n as f64;
         }
-        // Volume: uniform points inside, by rejection from a bounding cylinder.
-        let n = samples_for(volume, total_volume);
-        let mut kept = 0usize;
-        let mut drawn = 0usize;
+        // Volume: uniform points inside, by rejection from a bounding
+        // cylinder, each weighted by one over the number of primitives that
+        // hold it. Counting the points in no primitive of lower index instead
+        // has the same mean, but where hundreds of primitives overlap (the
+        // blob cells) nearly every point counts zero and the rare ones decide.
         let rmax = c.ra.max(c.rb);
-        while drawn < n {
+        let mut drawn = 0;
+        while drawn < n[3] {
             let x = -c.ra + rng.next() * (d + c.ra + c.rb);
             let rho = rmax * rng.next().sqrt();
             let th = std::f64::consts::TAU * rng.next();
@@ -245,21 +368,63 @@ pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
                 continue;
             }
             drawn += 1;
-            let covered = near
+            let holders = 1 + near
                 .iter()
-                .any(|&j| (j as usize) < i && cones[j as usize].sdf(p) <= 0.0);
-            kept += usize::from(!covered);
+                .filter(|&&j| cones[j as usize].sdf(p) <= 0.0)
+                .count();
+            hits[3] += 1.0 / holders as f64;
         }
-        vec![(area, volume * kept as f64 / n as f64)]
-    });
-    UnionMeasures {
-        area: per_cone.iter().map(|p| p.0).sum(),
-        volume: per_cone.iter().map(|p| p.1).sum(),
+        hits
     }
 }
 
-fn samples_for(part: f64, total: f64) -> usize {
-    ((SAMPLES as f64 * part / total).ceil() as usize).clamp(2, SAMPLES)
+/// The primitives (normalised) that no other single primitive contains.
+///
+/// A round cone is the convex hull of its end spheres, so it lies inside a
+/// convex primitive that holds both of them; a sphere is held when its
+/// centre is at least its radius inside (the `sdf` is never deeper than the
+/// true distance to the surface, so the test is safe). Of two equal
+/// primitives the first is kept. Those left out add nothing to the union's
+/// area or volume, and leaving them out matters where sample points are
+/// scarce: on the blob cells (radius codes) two thirds of the cones lie
+/// inside the largest sphere and took two thirds of the samples.
+fn exposed(cones: &[RoundCone]) -> Vec<RoundCone> {
+    // Largest first (a stable sort, so equal volumes keep their order): see
+    // `measure`.
+    let mut by_volume: Vec<(f64, RoundCone)> = cones
+        .iter()
+        .map(|c| {
+            let c = c.normalised();
+            (c.parts().1, c)
+        })
+        .collect();
+    by_volume.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let cones: Vec<RoundCone> = by_volume.into_iter().map(|(_, c)| c).collect();
+    let boxes: Vec<Aabb> = cones.iter().map(RoundCone::aabb).collect();
+    let bvh = Bvh::new(boxes.clone());
+    let holds = |outer: &RoundCone, inner: &RoundCone| {
+        outer.sdf(inner.a) + inner.ra <= 0.0 && outer.sdf(inner.b) + inner.rb <= 0.0
+    };
+    crate::parallel::flat_map_range(cones.len(), |i| {
+        let c = &cones[i];
+        let mut held = false;
+        // A primitive that holds another has at least its volume, so it
+        // comes first; of equal ones the first holds the others.
+        bvh.for_each_containing(&boxes[i], |j| {
+            held = held || ((j as usize) < i && holds(&cones[j as usize], c));
+        });
+        Vec::from_iter((!held).then_some(*c))
+    })
+}
+
+/// Points for a part of measure `part` out of `total`, from a budget of
+/// `budget` (at least 2 for a part of positive measure, none for a part of
+/// measure zero).
+fn samples_for(part: f64, total: f64, budget: usize) -> u32 {
+    if part <= 0.0 {
+        return 0;
+    }
+    ((budget as f64 * part / total).ceil() as usize).clamp(2, budget) as u32
 }
 
 /// Orthonormal frame along the cone's axis, and its length.
@@ -401,6 +566,47 @@ mod tests {
         ]);
         close(m.area, 36.0 * PI, 1e-9);
         close(m.volume, 36.0 * PI, 1e-9);
+    }
+
+    /// Two spheres whose union has a closed form, under hundreds of round
+    /// cones nested in the larger one (as on the blob cells, where most
+    /// primitives lie inside others): the nested ones are left out before
+    /// sampling and the estimate keeps its precision.
+    #[test]
+    fn nested_cones_leave_two_overlapping_spheres_exact() {
+        let (big, small, d) = (10.0, 3.0, 10.0);
+        let mut cones = vec![
+            RoundCone::sphere(DVec3::ZERO, big),
+            RoundCone::sphere(DVec3::new(d, 0.0, 0.0), small),
+        ];
+        let mut rng = Rng::new(7);
+        for _ in 0..400 {
+            let mut at = || DVec3::new(rng.next(), rng.next(), rng.next()) * 8.0 - 4.0;
+            let (a, b) = (at(), at());
+            cones.push(RoundCone {
+                a,
+                ra: 1.0 + rng.next(),
+                b,
+                rb: 0.5,
+            });
+        }
+        // The second sphere twice: equal primitives keep one copy.
+        cones.push(cones[1]);
+        assert_eq!(exposed(&cones).len(), 2);
+        // The caps each sphere has inside the other.
+        let h_big = (small - big + d) * (small + big - d) / (2.0 * d);
+        let h_small = (big - small + d) * (big + small - d) / (2.0 * d);
+        let area =
+            4.0 * PI * (big * big + small * small) - 2.0 * PI * (big * h_big + small * h_small);
+        let lens = PI
+            * (big + small - d).powi(2)
+            * (d * d + 2.0 * d * small - 3.0 * small * small + 2.0 * d * big + 6.0 * small * big
+                - 3.0 * big * big)
+            / (12.0 * d);
+        let volume = 4.0 / 3.0 * PI * (big.powi(3) + small.powi(3)) - lens;
+        let m = measure(&cones);
+        close(m.area, area, 0.005);
+        close(m.volume, volume, 0.005);
     }
 
     #[test]
