@@ -83,6 +83,12 @@ impl Aabb {
         (0..3).all(|a| self.lo[a] <= o.lo[a] && o.hi[a] <= self.hi[a])
     }
 
+    /// Whether the closed box holds point `p`.
+    #[inline]
+    pub fn holds_point(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|a| self.lo[a] <= p[a] && p[a] <= self.hi[a])
+    }
+
     /// Whether the closed boxes overlap.
     #[inline]
     pub fn overlaps(&self, o: &Aabb) -> bool {
@@ -477,6 +483,37 @@ mod tests {
             }
         }
         assert_eq!(got, want);
+    }
+
+    #[test]
+    fn finds_exactly_the_containing_boxes() {
+        // Nested and scattered boxes of mixed sizes.
+        let boxes: Vec<Aabb> = (0..400)
+            .map(|i| {
+                let f = f64::from(i);
+                let (x, y, z) = ((f * 7.3) % 30.0, (f * 3.1) % 20.0, (f * 1.7) % 9.0);
+                let s = 0.5 + (f * 0.37) % 12.0;
+                Aabb {
+                    lo: [x, y, z],
+                    hi: [x + s, y + s, z + s],
+                }
+            })
+            .collect();
+        let bvh = Bvh::new(boxes.clone());
+        let mut total = 0;
+        for q in &boxes {
+            let mut got = Vec::new();
+            bvh.for_each_containing(q, |i| got.push(i));
+            got.sort_unstable();
+            let want: Vec<u32> = (0..boxes.len() as u32)
+                .filter(|&i| boxes[i as usize].contains(q))
+                .collect();
+            assert_eq!(got, want);
+            total += want.len();
+        }
+        // Each box holds itself; some hold others too.
+        assert!(total > boxes.len(), "{total}");
+        assert!(boxes[0].holds_point(boxes[0].lo) && !boxes[0].holds_point([-1.0, 0.0, 0.0]));
     }
 
     #[test]

@@ -346,6 +346,10 @@ impl<'a> Sampler<'a> {
             for _ in 0..n[part] {
                 let p = surface_point(c, part, sin, (e1, e2, u, d), &mut rng);
                 let covered = near.iter().any(|&j| {
+                    let near_box = self.boxes[j as usize].inflated(self.eps);
+                    if !near_box.holds_point(p.to_array()) {
+                        return false;
+                    }
                     let s = cones[j as usize].sdf(p);
                     s < -self.eps || (s <= self.eps && (j as usize) < i)
                 });
@@ -370,7 +374,10 @@ impl<'a> Sampler<'a> {
             drawn += 1;
             let holders = 1 + near
                 .iter()
-                .filter(|&&j| cones[j as usize].sdf(p) <= 0.0)
+                .filter(|&&j| {
+                    self.boxes[j as usize].holds_point(p.to_array())
+                        && cones[j as usize].sdf(p) <= 0.0
+                })
                 .count();
             hits[3] += 1.0 / holders as f64;
         }
