@@ -69,9 +69,10 @@ pub struct UnionMeasures {
     pub volume: f64,
 }
 
-/// Surface points over the whole union (volume points likewise), for the
-/// pilot that sets how the main points are spread, and for the estimate.
+/// Surface points of the pilot round, which sets how the main round's are
+/// spread.
 const PILOT: usize = 100_000;
+/// Surface points of the main round, and volume points, over the whole union.
 const SAMPLES: usize = 200_000;
 
 impl RoundCone {
@@ -254,15 +255,12 @@ pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
             })
         })
         .collect();
-    let spread_totals = spread
-        .iter()
-        .fold([0.0; 2], |t, s| [t[0] + s[0] + s[1] + s[2], 0.0]);
+    let spread_total: f64 = spread.iter().map(|s| s[0] + s[1] + s[2]).sum();
     let main: Vec<[u32; 4]> = spread
         .iter()
         .zip(&sizes)
         .map(|(s, size)| {
-            let mut n: [u32; 4] =
-                std::array::from_fn(|k| samples_for(s[k], spread_totals[0], SAMPLES));
+            let mut n: [u32; 4] = std::array::from_fn(|k| samples_for(s[k], spread_total, SAMPLES));
             n[3] = samples_for(size[3], totals[1], SAMPLES);
             n
         })
