@@ -17,13 +17,9 @@ fn main() {
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
         let cones = skeleton_primitives(&m);
         let reach = cones.iter().map(|c| c.ra.max(c.rb)).fold(0.0, f64::max);
-        let boxes: Vec<Aabb> = cones
-            .iter()
-            .map(|c| {
-                let r = DVec3::splat(c.ra.max(c.rb) + reach);
-                Aabb::of(&[(c.a.min(c.b) - r).to_array(), (c.a.max(c.b) + r).to_array()])
-            })
-            .collect();
+        // Each cone's box grown by the largest radius: enough to find the
+        // nearest cone of a face within that distance of the union.
+        let boxes: Vec<Aabb> = cones.iter().map(|c| c.aabb().inflated(reach)).collect();
         let bvh = Bvh::new(boxes);
         let mut hist = [0.0; EDGES.len() + 1];
         let (mut total, mut mean_abs) = (0.0, 0.0);

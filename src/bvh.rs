@@ -440,6 +440,22 @@ mod tests {
         }
     }
 
+    /// `n` cubes of mixed sizes (0.5 to 0.5 + `sizes`) scattered over a
+    /// `span` × 20 × 9 region.
+    fn jumble(n: u32, span: f64, sizes: f64) -> Vec<Aabb> {
+        (0..n)
+            .map(|i| {
+                let f = f64::from(i);
+                let (x, y, z) = ((f * 7.3) % span, (f * 3.1) % 20.0, (f * 1.7) % 9.0);
+                let s = 0.5 + (f * 0.37) % sizes;
+                Aabb {
+                    lo: [x, y, z],
+                    hi: [x + s, y + s, z + s],
+                }
+            })
+            .collect()
+    }
+
     #[test]
     fn finds_exactly_the_overlapping_boxes() {
         let boxes: Vec<Aabb> = (0..1000).map(|i| unit_box(f64::from(i) * 2.0)).collect();
@@ -460,18 +476,7 @@ mod tests {
 
     #[test]
     fn self_pairs_match_brute_force() {
-        // A jumble of boxes of mixed sizes.
-        let boxes: Vec<Aabb> = (0..600)
-            .map(|i| {
-                let f = f64::from(i);
-                let (x, y, z) = ((f * 7.3) % 50.0, (f * 3.1) % 20.0, (f * 1.7) % 9.0);
-                let s = 0.5 + (f * 0.37) % 3.0;
-                Aabb {
-                    lo: [x, y, z],
-                    hi: [x + s, y + s, z + s],
-                }
-            })
-            .collect();
+        let boxes = jumble(600, 50.0, 3.0);
         let bvh = Bvh::new(boxes.clone());
         let got = bvh.overlapping_pairs(|i, j| (i + j) % 3 != 0);
         let mut want = Vec::new();
@@ -487,18 +492,8 @@ mod tests {
 
     #[test]
     fn finds_exactly_the_containing_boxes() {
-        // Nested and scattered boxes of mixed sizes.
-        let boxes: Vec<Aabb> = (0..400)
-            .map(|i| {
-                let f = f64::from(i);
-                let (x, y, z) = ((f * 7.3) % 30.0, (f * 3.1) % 20.0, (f * 1.7) % 9.0);
-                let s = 0.5 + (f * 0.37) % 12.0;
-                Aabb {
-                    lo: [x, y, z],
-                    hi: [x + s, y + s, z + s],
-                }
-            })
-            .collect();
+        // Sizes up to 12.5 in a 30-wide span: many boxes nest.
+        let boxes = jumble(400, 30.0, 12.0);
         let bvh = Bvh::new(boxes.clone());
         let mut total = 0;
         for q in &boxes {

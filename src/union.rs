@@ -159,7 +159,7 @@ impl RoundCone {
 
     /// The box of the two end spheres, which is the cone's own: the
     /// extent of a convex hull in any direction is its parts' largest.
-    fn aabb(&self) -> Aabb {
+    pub fn aabb(&self) -> Aabb {
         let (ra, rb) = (DVec3::splat(self.ra), DVec3::splat(self.rb));
         Aabb::of(&[
             (self.a - ra).min(self.b - rb).to_array(),
