@@ -331,17 +331,35 @@ fn crossing_pairs(
     let mut pairs = crate::parallel::flat_map_range(item_pairs.len(), |k| {
         let [i, j] = item_pairs[k];
         let (ri, rj) = (&runs[i as usize], &runs[j as usize]);
+        // The second run's faces that reach into the first run's box, with
+        // their corners and boxes, gathered once rather than per face of
+        // the first run (a run holds at most `RUN` faces: on the stack).
+        let mut near = [(0u32, [0u32; 3], [[0.0; 3]; 3], Aabb::EMPTY); RUN];
+        let mut n_near = 0;
+        for b in rj.0.clone() {
+            let fb = faces[b as usize];
+            let tb = fb.map(|k| pos[k as usize]);
+            let bb = Aabb::of(&tb);
+            if bb.overlaps(&ri.1) {
+                near[n_near] = (b, fb, tb, bb);
+                n_near += 1;
+            }
+        }
+        let near = &near[..n_near];
         let mut out = Vec::new();
+        if near.is_empty() {
+            return out;
+        }
         for a in ri.0.clone() {
             let fa = faces[a as usize];
-            let ba = face_box(pos, fa);
+            let ta = fa.map(|k| pos[k as usize]);
+            let ba = Aabb::of(&ta);
             if !ba.overlaps(&rj.1) {
                 continue;
             }
-            let ta = fa.map(|k| pos[k as usize]);
-            for b in rj.0.clone() {
-                if crosses(pos, faces, fa, ta, &ba, b) {
-                    out.push([a.min(b), a.max(b)]);
+            for (b, fb, tb, bb) in near {
+                if ba.overlaps(bb) && crate::check::pair_intersects(fa, *fb, ta, *tb) {
+                    out.push([a.min(*b), a.max(*b)]);
                 }
             }
         }
