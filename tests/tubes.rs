@@ -45,14 +45,33 @@ fn assert_sound(mesh: &Mesh, what: &str) {
 fn assert_pieces_sound(m: &Morphology, what: &str) -> usize {
     let stage = build_tubes(m, &Params::default()).expect("tubes");
     let s = &stage.surface;
-    let vertices: Vec<[f32; 3]> = s.pos.iter().map(|p| p.as_vec3().to_array()).collect();
+    // Each piece as a mesh of its own vertices only: a copy of the whole
+    // cell's vertices per piece made this test quadratic in the cell's size.
+    let mut local = vec![u32::MAX; s.pos.len()];
     for (i, t) in stage.tubes.iter().enumerate() {
-        let faces: Vec<[u32; 3]> = (t.tris.start..t.tris.end)
-            .filter(|&f| s.alive[f as usize])
-            .map(|f| s.tris[f as usize])
-            .collect();
+        let mut used: Vec<u32> = Vec::new();
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        for f in t.tris.start..t.tris.end {
+            if !s.alive[f as usize] {
+                continue;
+            }
+            faces.push(s.tris[f as usize].map(|k| {
+                if local[k as usize] == u32::MAX {
+                    local[k as usize] = used.len() as u32;
+                    used.push(k);
+                }
+                local[k as usize]
+            }));
+        }
         assert!(!faces.is_empty(), "{what}: piece {i} has no triangles");
-        let piece = Mesh::new(vertices.clone(), faces).expect("valid piece");
+        let vertices: Vec<[f32; 3]> = used
+            .iter()
+            .map(|&k| s.pos[k as usize].as_vec3().to_array())
+            .collect();
+        for &k in &used {
+            local[k as usize] = u32::MAX;
+        }
+        let piece = Mesh::new(vertices, faces).expect("valid piece");
         let pairs = self_intersections(&piece.view());
         assert!(
             pairs.is_empty(),
