@@ -172,9 +172,9 @@ fn every_real_file_is_one_surface_per_tree() {
     for f in common::real_files() {
         let m = Morphology::from_swc(&f).expect("reads");
         let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
-        // Without the union of round cones, which nothing here asserts on: it
-        // took 81 s of this test's 218 s (one machine, alone), most of it on
-        // the CAR 66k cell.
+        // Without the union of round cones, which nothing here asserts on
+        // (most of its cost is the CAR 66k cell's): on one machine this test
+        // took 218 s with it, and this whole file takes 137 s without it.
         let r = mesh.view().check_without_union(Some(&m));
         let what = f.display();
         assert!(
