@@ -42,6 +42,7 @@ pub mod piece;
 pub mod planar;
 pub mod plausibility;
 mod proof;
+pub mod section;
 pub mod soma;
 pub mod splice;
 pub mod spline;
