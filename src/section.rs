@@ -112,8 +112,7 @@ impl Profiles {
             .fold(0.0, f64::max);
         let window = widest + longest;
         let mut near: Vec<(DVec3, f64, usize)> = Vec::new();
-        let mut own: Vec<(DVec3, f64)> = Vec::new();
-        let mut all: Vec<(DVec3, f64)> = Vec::new();
+        let (mut own, mut all): (Vec<(DVec3, f64)>, Vec<(DVec3, f64)>) = (Vec::new(), Vec::new());
         let mut intervals: Vec<(f64, f64)> = Vec::new();
         let mut profile = [0.0f64; DIRECTIONS];
         for (i, s) in samples.iter().enumerate() {
