@@ -42,7 +42,6 @@ pub mod piece;
 pub mod planar;
 pub mod plausibility;
 mod proof;
-pub mod section;
 pub mod soma;
 pub mod splice;
 pub mod spline;

@@ -1086,7 +1086,6 @@ mod tests {
             label: 0,
             source: 0,
             resampled: 0,
-            shaped: false,
         }
     }
 

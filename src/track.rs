@@ -11,7 +11,6 @@ use glam::DVec3;
 
 use crate::contour::{self, DiscFrame};
 use crate::params::Params;
-use crate::section::Profiles;
 use crate::spline::{self, Sample};
 
 /// The resampled, framed points of a branch with their contour sizes.
@@ -32,16 +31,11 @@ pub struct Track {
     /// For each of the branch's original points, its resampled point (a
     /// merged near-duplicate maps to the point it was merged into).
     pub originals: Vec<usize>,
-    /// The contours that follow the union's cross-section rather than a
-    /// circle ([`crate::section`]); their polygon radius is the profile's
-    /// largest distance.
-    pub profiles: Profiles,
 }
 
 impl Track {
     /// Resamples and frames a branch given its points and radii.
-    pub fn new(points: &[DVec3], radii_in: &[f64], params: &Params, u0: Option<DVec3>) -> Track {
-        let radii = radii_in;
+    pub fn new(points: &[DVec3], radii: &[f64], params: &Params, u0: Option<DVec3>) -> Track {
         let r_avg = radii.iter().sum::<f64>() / radii.len() as f64;
         let edge = r_avg / params.resolution;
         let mut samples = spline::resample(points, radii, edge, params.k1);
@@ -61,12 +55,11 @@ impl Track {
                 contour::vertex_count(s.radius, edge, params.min_vertices, params.max_vertices)
             })
             .collect();
-        let mut radii: Vec<f64> = samples
+        let radii = samples
             .iter()
             .zip(&counts)
             .map(|(s, &m)| contour::polygon_radius(s.radius, m))
             .collect();
-        let profiles = Profiles::new(&samples, &frames, &mut radii, points, radii_in);
         let mut arc = Vec::with_capacity(samples.len());
         let mut acc = 0.0;
         for (i, s) in samples.iter().enumerate() {
@@ -95,7 +88,6 @@ impl Track {
             edge,
             arc,
             originals,
-            profiles,
         }
     }
 
@@ -110,7 +102,6 @@ impl Track {
             edge: self.edge,
             arc: self.arc[..end].to_vec(),
             originals: self.originals.iter().map(|&k| k.min(end - 1)).collect(),
-            profiles: self.profiles.prefix(end),
         }
     }
 

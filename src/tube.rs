@@ -48,9 +48,6 @@ pub struct Ring {
     pub source: u32,
     /// Index of the resampled point it was made from.
     pub resampled: u32,
-    /// Whether its vertices follow a profile ([`crate::section`]) rather
-    /// than the circle of `radius`, which then bounds them.
-    pub shaped: bool,
 }
 
 impl Ring {
@@ -106,21 +103,8 @@ pub fn place_ring(
     let m = track.counts[i];
     let label = labels[s.source as usize];
     let first = surface.pos.len() as u32;
-    let shaped = track.profiles.shaped(i);
-    if shaped {
-        // The profile's angles run from the track's own first-vertex direction.
-        let f = track.frames[i];
-        let offset = u.dot(s.tangent.cross(f)).atan2(u.dot(f));
-        let v = s.tangent.cross(u);
-        for j in 0..m {
-            let theta = std::f64::consts::TAU * f64::from(j) / f64::from(m);
-            let r = track.radii[i] * track.profiles.at(i, theta + offset);
-            surface.vertex(s.pos + r * (theta.cos() * u + theta.sin() * v), label);
-        }
-    } else {
-        for p in contour::ring(s.pos, s.tangent, u, track.radii[i], m) {
-            surface.vertex(p, label);
-        }
+    for p in contour::ring(s.pos, s.tangent, u, track.radii[i], m) {
+        surface.vertex(p, label);
     }
     Ring {
         center: s.pos,
@@ -133,7 +117,6 @@ pub fn place_ring(
         label,
         source: s.source,
         resampled: i as u32,
-        shaped,
     }
 }
 
@@ -177,7 +160,6 @@ pub fn capsule(
                 m,
                 first,
                 label,
-                shaped: false,
                 source: 0,
                 resampled: 0,
             }
@@ -458,17 +440,8 @@ pub fn cap(
         let phi = std::f64::consts::FRAC_PI_2 * f64::from(k) / f64::from(rings + 1);
         let center = ring.center + dir * (r * phi.sin());
         let first = surface.pos.len() as u32;
-        if ring.shaped {
-            // The dome's rings are the contour itself, shrunk towards its axis.
-            let scale = r * phi.cos() / ring.radius;
-            for j in 0..ring.m {
-                let w = surface.pos[ring.vertex(j) as usize] - ring.center;
-                surface.vertex(center + scale * w, ring.label);
-            }
-        } else {
-            for p in contour::ring(center, ring.normal, ring.u, r * phi.cos(), ring.m) {
-                surface.vertex(p, ring.label);
-            }
+        for p in contour::ring(center, ring.normal, ring.u, r * phi.cos(), ring.m) {
+            surface.vertex(p, ring.label);
         }
         let next = Ring {
             center,
