@@ -680,7 +680,8 @@ pub fn tracks(geometry: &Geometry, branches: &[Branch], params: &Params) -> Vec<
             .iter()
             .map(|&s| geometry.radius[s as usize])
             .collect();
-        Track::new(&points, &radii, params, None)
+        let first = usize::from(matches!(b.attachment, Attachment::Soma { .. }));
+        Track::widened_from(&points, &radii, params, None, first)
     })
 }
 
