@@ -226,7 +226,9 @@ mod tests {
 
     #[test]
     fn a_straight_or_gently_bent_branch_is_not_widened() {
-        let straight: Vec<DVec3> = (0..20).map(|i| DVec3::new(f64::from(i), 0.0, 0.0)).collect();
+        let straight: Vec<DVec3> = (0..20)
+            .map(|i| DVec3::new(f64::from(i), 0.0, 0.0))
+            .collect();
         // A quarter circle of radius 20, sampled every unit: it bends at a
         // scale far above the tube's radius of 1.
         let arc: Vec<DVec3> = (0..32)
@@ -252,7 +254,10 @@ mod tests {
         let f = widening(&track(&points, 1.0, 0));
         let middle = &f[f.len() / 4..3 * f.len() / 4];
         assert!(middle.iter().all(|&x| x > 1.005), "{middle:?}");
-        assert!(f.iter().all(|&x| (1.0..=MAX_SWEEP + 1e-12).contains(&x)), "{f:?}");
+        assert!(
+            f.iter().all(|&x| (1.0..=MAX_SWEEP + 1e-12).contains(&x)),
+            "{f:?}"
+        );
     }
 
     #[test]
