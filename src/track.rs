@@ -3,7 +3,8 @@
 //! [`Track::new`] resamples the branch's points (see [`crate::spline`]), turns
 //! the tangents into radius-scale directions, pushes the first-vertex frame
 //! forward and computes each point's vertex count and polygon radius (see
-//! [`crate::contour`]). [`may_follow`] is the rule for which contour may follow
+//! [`crate::contour`]), widened where the trace jitters below the radius
+//! scale (see [`MAX_SWEEP`]). [`may_follow`] is the rule for which contour may follow
 //! which: the paper's "skip intersecting contours" plus a sanity check on the
 //! band's shape.
 
@@ -39,7 +40,8 @@ impl Track {
         Track::widened_from(points, radii, params, u0, 0)
     }
 
-    /// [`Track::new`], its contours widened ([`sweep_factors`]) only from
+    /// [`Track::new`], its contours widened where the trace jitters (see
+    /// [`MAX_SWEEP`]) only from
     /// the original point `first` on: a trunk's first segment runs from the
     /// soma's centre with the soma's radius, where the skeleton's bends are
     /// the soma's and the radius-scale tangents turn against the travel.
@@ -147,9 +149,12 @@ impl Track {
     }
 }
 
-/// Most a contour's radius is widened by [`sweep_factors`]. On the 48
-/// corpus files the factor reaches it only on jittering EM traces, where
-/// even the widened tubes stay under the union of round cones.
+/// Most a contour's radius is widened where the trace jitters below the
+/// radius scale: the tube's bands sweep the length along their smoothed
+/// normals, the round cones the jittering length, and the radius grows by
+/// the square root of their ratio over a radius either side. On the 48
+/// corpus files the cap is reached only on jittering EM traces, where even
+/// the widened tubes stay under the union of round cones.
 pub const MAX_SWEEP: f64 = 1.15;
 
 /// Per point, how much wider its contour must be for the tube to sweep the
