@@ -168,12 +168,16 @@ pub const MAX_SWEEP: f64 = 1.15;
 /// grows by its square root (at most [`MAX_SWEEP`]).
 fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize) -> Vec<f64> {
     let n = samples.len();
-    // Per band: its length and its length along the mean of its normals.
-    let mut along = Vec::with_capacity(n.saturating_sub(1));
+    // Running sums over the bands (band k joins points k and k + 1) of their
+    // length along the mean of their normals, so that each point's window
+    // costs two binary searches, not a walk: on a blob cell a radius spans
+    // the whole branch.
+    let mut swept_to = Vec::with_capacity(n);
+    swept_to.push(0.0);
     for i in 1..n {
         let d = samples[i].pos - samples[i - 1].pos;
         let t = (samples[i].tangent + samples[i - 1].tangent).normalize_or_zero();
-        along.push(d.dot(t).max(0.0));
+        swept_to.push(swept_to[i - 1] + d.dot(t).max(0.0));
     }
     (0..n)
         .map(|i| {
@@ -182,13 +186,10 @@ fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize) -> Vec<f64> {
             }
             let w = samples[i].radius;
             let lo = arc.partition_point(|&a| a < arc[i] - w).max(from);
-            let hi = arc.partition_point(|&a| a <= arc[i] + w).min(n);
-            // Bands lo..hi-1 (band k joins points k and k + 1).
-            let (mut length, mut swept) = (0.0, 0.0);
-            for k in lo..hi.saturating_sub(1) {
-                length += arc[k + 1] - arc[k];
-                swept += along[k];
-            }
+            let hi = arc.partition_point(|&a| a <= arc[i] + w).clamp(1, n) - 1;
+            // The bands from point lo to point hi.
+            let length = arc[hi] - arc[lo.min(hi)];
+            let swept = swept_to[hi] - swept_to[lo.min(hi)];
             if length <= 0.0 || swept <= 0.0 {
                 return 1.0;
             }
