@@ -83,12 +83,11 @@ impl Track {
             .iter()
             .position(|s| s.source as usize >= first)
             .unwrap_or(samples.len());
-        let sweep = sweep_factors(&samples, &arc, from);
         let radii = samples
             .iter()
             .zip(&counts)
-            .zip(&sweep)
-            .map(|((s, &m), &f)| contour::polygon_radius(s.radius, m) * f)
+            .zip(sweep_factors(&samples, &arc, from))
+            .map(|((s, &m), f)| contour::polygon_radius(s.radius, m) * f)
             .collect();
         let mut originals = vec![0usize; points.len()];
         for (i, s) in samples.iter().enumerate() {
@@ -186,12 +185,12 @@ fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize) -> Vec<f64> {
             if i < from {
                 return 1.0;
             }
+            // The bands from point lo to point hi, lo ≤ i ≤ hi (arc rises).
             let w = samples[i].radius;
             let lo = arc.partition_point(|&a| a < arc[i] - w).max(from);
-            let hi = arc.partition_point(|&a| a <= arc[i] + w).clamp(1, n) - 1;
-            // The bands from point lo to point hi.
-            let length = arc[hi] - arc[lo.min(hi)];
-            let swept = swept_to[hi] - swept_to[lo.min(hi)];
+            let hi = arc.partition_point(|&a| a <= arc[i] + w).saturating_sub(1);
+            let length = arc[hi] - arc[lo];
+            let swept = swept_to[hi] - swept_to[lo];
             if length <= 0.0 || swept <= 0.0 {
                 return 1.0;
             }
