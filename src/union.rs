@@ -39,7 +39,11 @@
 //! ordinary cell. The blob cells stay unsure in area: 14 % on the
 //! 66,578-sample CAR cell (60 % before these steps) and 4 % on CAR 00148
 //! (10 %); in volume 2.1 % (9 %) and 0.1 % (1.5 %). Results are identical
-//! from run to run.
+//! from run to run. With twenty times the points, CAR 00148's area came
+//! within 0.21 % of its mesh's, a radial graph over its exactly
+//! star-shaped union ([`crate::blob`]); the mesh is 4.86 % over the
+//! estimate at the default budget, which stays because that run took 89 s
+//! (CAR 66k's, 31 minutes).
 
 use glam::DVec3;
 
