@@ -274,7 +274,16 @@ fn set_trunk_filler(
     let reach = out.start[i].map_or(length, |k| (t.samples[k].pos - p0).dot(axis));
     let x = |k: usize| (straight.samples[k].pos - p0).dot(axis);
     let n = straight.samples.len();
-    let mut last = (0..n).find(|&k| x(k) >= reach).unwrap_or(n - 1);
+    // A tube that starts at the soma sample itself or behind it (the
+    // sample's sphere wider than the soma's, as where a 3-point soma is not
+    // recognised) starts flat there, and its splice may move that start on:
+    // the filler then takes the whole cone, its start dome holding the half
+    // of the sample's sphere behind the tube.
+    let mut last = if reach <= 0.0 {
+        n - 1
+    } else {
+        (0..n).find(|&k| x(k) >= reach).unwrap_or(n - 1)
+    };
     if last > 0 && last + 1 < n && x(last) < reach + 0.5 * (x(last) - x(last - 1)) {
         last += 1;
     }
