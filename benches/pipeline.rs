@@ -78,7 +78,7 @@ fn stages(c: &mut Criterion) {
             b.iter(|| {
                 let geometry = mesher::Geometry::new(m, &params);
                 let branches = neuromesh::branch::identify(m, params.angle_threshold);
-                mesher::tracks(&geometry, &branches, &params)
+                mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP)
             })
         });
     }

@@ -27,8 +27,7 @@ fn main() {
             lap(3, &mut best);
             neuromesh::mesher::build_fillers(&mut stage, &p);
             lap(4, &mut best);
-            let mesh = neuromesh::mesher::finish(stage, || neuromesh::mesher::construct(&m, &p))
-                .expect("mesh");
+            let mesh = neuromesh::mesher::unite(&m, &p, stage).expect("mesh");
             lap(5, &mut best);
             tris = mesh.faces.len();
         }

@@ -8,7 +8,8 @@ fn main() {
     let k = m.ids().iter().position(|&i| i == id).expect("id") as u32;
     let branches = neuromesh::branch::identify(&m, params.angle_threshold);
     let geometry = neuromesh::mesher::Geometry::new(&m, &params);
-    let tracks = neuromesh::mesher::tracks(&geometry, &branches, &params);
+    let tracks =
+        neuromesh::mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP);
     for (bi, b) in branches.iter().enumerate() {
         if !b.samples[1..].contains(&k) {
             continue;

@@ -9,7 +9,8 @@ fn main() {
     let params = neuromesh::Params::default();
     let branches = neuromesh::branch::identify(&m, params.angle_threshold);
     let geometry = neuromesh::mesher::Geometry::new(&m, &params);
-    let tracks = neuromesh::mesher::tracks(&geometry, &branches, &params);
+    let tracks =
+        neuromesh::mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP);
     let starts = neuromesh::starts::plan(&m, &geometry, &branches, &tracks, &params);
     for plan in &starts.somas {
         let c = plan.sphere.center;

@@ -17,7 +17,7 @@ use crate::soma;
 use crate::splice::{Join, Method, Splicer};
 use crate::starts::{SomaPlan, Starts};
 use crate::surface::Surface;
-use crate::track::Track;
+use crate::track::{SAFE_SWEEP_CAP, SWEEP_CAP, Track};
 use crate::tube::{Ring, Tube};
 
 /// Radii are never below this fraction of the largest coordinate (in the
@@ -59,9 +59,25 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
         mesh.origin = origin;
         return Ok(mesh);
     }
-    finish(construct(morphology, params)?, || {
-        construct(morphology, params)
-    })
+    unite(morphology, params, construct(morphology, params)?)
+}
+
+/// Step 6 on `stage`, constructed from `morphology` by [`construct`]: the
+/// mesh with its overlaps resolved and fillers united. Tubes widened to
+/// [`SWEEP_CAP`] can crowd the fillers on a thick trunk past what the
+/// overlap pass cuts; where the first union leaves crossings the cell is
+/// built again with the tubes widened at most to [`SAFE_SWEEP_CAP`] and
+/// finished there, retries and all ([`finish`]). Only such cells pay for
+/// the second construction.
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn unite(morphology: &Morphology, params: &Params, stage: TubeStage) -> Result<Mesh> {
+    if let FirstTry::Clean(mesh) = first_try(stage) {
+        return Ok(mesh);
+    }
+    let safe = || construct_capped(morphology, params, SAFE_SWEEP_CAP);
+    finish(safe()?, safe)
 }
 
 /// The point a morphology scaled by `scale` is built around
@@ -80,34 +96,23 @@ pub fn frame_origin_of(morphology: &Morphology, scale: f64) -> [f64; 3] {
 /// # Errors
 /// What `rebuild` returns.
 pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result<Mesh> {
-    let (mesh, face_owner, filler_parts, filler_of_part) = stage.into_mesh();
-    let has_fillers = face_owner
-        .last()
-        .is_some_and(|&o| is_filler(o, filler_parts));
-    if !has_fillers {
-        let mut mesh = mesh;
-        resolve_overlaps(&mut mesh, &face_owner);
-        return Ok(mesh);
-    }
+    let (stuck, first_part, filler_of_part) = match first_try(stage) {
+        FirstTry::Clean(mesh) | FirstTry::Crossed(mesh) => return Ok(mesh),
+        FirstTry::Stuck {
+            stuck,
+            first_part,
+            of_part,
+        } => (stuck, first_part, of_part),
+    };
     // The fillers add crossings; should the pass fail to cut some, the cell
     // is meshed again without the filler pieces in them (and again, up to
     // `MAX_FILLER_RETRIES` times, without those in the crossings each try
     // leaves), and should that fail too, as the paper builds it, without
     // fillers, rather than left crossing itself.
     let fillers = Fillers {
-        first_part: filler_parts,
+        first_part,
         of_part: &filler_of_part,
     };
-    let (united, resolved) = fillers.unite_without(mesh, &face_owner, |_| false);
-    if resolved.outcome.pairs_left == 0 {
-        return Ok(united);
-    }
-    let stuck: Vec<u32> = resolved
-        .left_parts
-        .iter()
-        .copied()
-        .filter(|&o| fillers.has(o))
-        .collect();
     // Construction is deterministic: the rebuilt mesh numbers its faces and
     // parts as the first did, so `stuck` and `fillers` still name them.
     let (mesh, face_owner, ..) = rebuild()?.into_mesh();
@@ -141,6 +146,58 @@ pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> 
     Ok(fillers
         .unite_without(mesh, &face_owner, |o| fillers.has(o))
         .0)
+}
+
+/// How the first union of a constructed stage went.
+enum FirstTry {
+    /// Nothing is left crossing.
+    Clean(Mesh),
+    /// A stage without fillers whose overlaps the pass left crossing: there
+    /// is nothing to leave out and try again.
+    Crossed(Mesh),
+    /// The fillers' union left crossings: the filler parts in them, sorted,
+    /// and the stage's filler parts (from `first_part`, each of the filler
+    /// `of_part[part - first_part]`).
+    Stuck {
+        stuck: Vec<u32>,
+        first_part: u32,
+        of_part: Vec<u32>,
+    },
+}
+
+/// The stage's mesh with its overlaps resolved and all its fillers united.
+fn first_try(stage: TubeStage) -> FirstTry {
+    let (mesh, face_owner, first_part, of_part) = stage.into_mesh();
+    let has_fillers = face_owner.last().is_some_and(|&o| is_filler(o, first_part));
+    if !has_fillers {
+        let mut mesh = mesh;
+        resolve_overlaps(&mut mesh, &face_owner);
+        return if mesh.stats.overlap_pairs_left == 0 {
+            FirstTry::Clean(mesh)
+        } else {
+            FirstTry::Crossed(mesh)
+        };
+    }
+    let fillers = Fillers {
+        first_part,
+        of_part: &of_part,
+    };
+    let (united, resolved) = fillers.unite_without(mesh, &face_owner, |_| false);
+    if resolved.outcome.pairs_left == 0 {
+        return FirstTry::Clean(united);
+    }
+    // Sorted, once each, as `left_parts` is.
+    let stuck: Vec<u32> = resolved
+        .left_parts
+        .iter()
+        .copied()
+        .filter(|&o| fillers.has(o))
+        .collect();
+    FirstTry::Stuck {
+        stuck,
+        first_part,
+        of_part,
+    }
 }
 
 /// How many times the mesher unites the fillers again, each time also
@@ -265,7 +322,20 @@ fn is_filler(owner: u32, filler_parts: u32) -> bool {
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn construct(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
-    let mut stage = build_tubes(morphology, params)?;
+    construct_capped(morphology, params, SWEEP_CAP)
+}
+
+/// [`construct`] with the tubes widened at most by `sweep_cap` where the
+/// trace jitters ([`SWEEP_CAP`]).
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn construct_capped(
+    morphology: &Morphology,
+    params: &Params,
+    sweep_cap: f64,
+) -> Result<TubeStage> {
+    let mut stage = build_tubes_capped(morphology, params, sweep_cap)?;
     build_somas(&mut stage);
     splice_all(&mut stage, params);
     build_fillers(&mut stage, params);
@@ -470,6 +540,19 @@ impl TubeStage {
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage> {
+    build_tubes_capped(morphology, params, SWEEP_CAP)
+}
+
+/// [`build_tubes`] with the tubes widened at most by `sweep_cap` where the
+/// trace jitters ([`SWEEP_CAP`]).
+///
+/// # Errors
+/// [`crate::Error::InvalidParam`] for a bad parameter.
+pub fn build_tubes_capped(
+    morphology: &Morphology,
+    params: &Params,
+    sweep_cap: f64,
+) -> Result<TubeStage> {
     params.validate()?;
     let m = morphology.scaled(params.scale)?;
     // A cell far from the coordinates' origin is built around its centre, so
@@ -487,7 +570,7 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
         ..BuildStats::default()
     };
     // 1. Resample and frame every branch.
-    let tracks = tracks(&geometry, &branches, params);
+    let tracks = tracks(&geometry, &branches, params, sweep_cap);
     // 2. Where each branch's tube starts, and which trunks each soma takes.
     let Starts {
         start: starts,
@@ -676,8 +759,14 @@ pub fn build_tubes(morphology: &Morphology, params: &Params) -> Result<TubeStage
     })
 }
 
-/// Every branch resampled (Catmull-Rom) and framed, with its contour sizes.
-pub fn tracks(geometry: &Geometry, branches: &[Branch], params: &Params) -> Vec<Track> {
+/// Every branch resampled (Catmull-Rom) and framed, with its contour sizes,
+/// widened at most by `sweep_cap` where the trace jitters ([`SWEEP_CAP`]).
+pub fn tracks(
+    geometry: &Geometry,
+    branches: &[Branch],
+    params: &Params,
+    sweep_cap: f64,
+) -> Vec<Track> {
     crate::parallel::map(branches, |b| {
         let points: Vec<DVec3> = b
             .samples
@@ -690,7 +779,7 @@ pub fn tracks(geometry: &Geometry, branches: &[Branch], params: &Params) -> Vec<
             .map(|&s| geometry.radius[s as usize])
             .collect();
         let first = usize::from(matches!(b.attachment, Attachment::Soma { .. }));
-        Track::widened_from(&points, &radii, params, None, first)
+        Track::widened_from(&points, &radii, params, None, first, sweep_cap)
     })
 }
 

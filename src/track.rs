@@ -4,7 +4,7 @@
 //! the tangents into radius-scale directions, pushes the first-vertex frame
 //! forward and computes each point's vertex count and polygon radius (see
 //! [`crate::contour`]), widened where the trace jitters below the radius
-//! scale (see [`MAX_SWEEP`]). [`may_follow`] is the rule for which contour
+//! scale (see [`SWEEP_CAP`]). [`may_follow`] is the rule for which contour
 //! may follow which: the paper's "skip intersecting contours" plus a sanity
 //! check on the band's shape.
 
@@ -37,20 +37,21 @@ pub struct Track {
 impl Track {
     /// Resamples and frames a branch given its points and radii.
     pub fn new(points: &[DVec3], radii: &[f64], params: &Params, u0: Option<DVec3>) -> Track {
-        Track::widened_from(points, radii, params, u0, 0)
+        Track::widened_from(points, radii, params, u0, 0, SWEEP_CAP)
     }
 
     /// [`Track::new`], its contours widened where the trace jitters (see
-    /// [`MAX_SWEEP`]) only from the original point `first` on: a trunk's
-    /// first segment runs from the soma's centre with the soma's radius,
-    /// where the skeleton's bends are the soma's and the radius-scale
-    /// tangents turn against the travel.
+    /// [`SWEEP_CAP`]) by at most `cap`, and only from the original point
+    /// `first` on: a trunk's first segment runs from the soma's centre with
+    /// the soma's radius, where the skeleton's bends are the soma's and the
+    /// radius-scale tangents turn against the travel.
     pub fn widened_from(
         points: &[DVec3],
         radii: &[f64],
         params: &Params,
         u0: Option<DVec3>,
         first: usize,
+        cap: f64,
     ) -> Track {
         let r_avg = radii.iter().sum::<f64>() / radii.len() as f64;
         let edge = r_avg / params.resolution;
@@ -86,7 +87,7 @@ impl Track {
         let radii = samples
             .iter()
             .zip(&counts)
-            .zip(sweep_factors(&samples, &arc, from))
+            .zip(sweep_factors(&samples, &arc, from, cap))
             .map(|((s, &m), f)| contour::polygon_radius(s.radius, m) * f)
             .collect();
         let mut originals = vec![0usize; points.len()];
@@ -152,11 +153,20 @@ impl Track {
 /// radius scale: the tube's bands sweep the length along their smoothed
 /// normals, the round cones the jittering length, and the radius grows by
 /// the square root of their ratio over a radius either side. On the 48
-/// corpus files this took the mean volume error against the union of round
-/// cones from −1.52 % to −1.05 %, and the jittering EM traces, the most
-/// widened, still stay under it (benches/README). A cap of 1.25 made the
-/// fillers of a fly medulla cell fail to unite.
-pub const MAX_SWEEP: f64 = 1.15;
+/// corpus files a cap of 1.15 took the mean volume error against the union
+/// of round cones from −1.52 % to −1.05 %; 1.25 took the two FlyWire EM
+/// traces, the most widened, from −3.60 and −4.34 % to −2.15 and −1.28 %
+/// (benches/README). Wider tubes crowd the fillers on thick trunks, though:
+/// at 1.25 a fly medulla cell's fillers failed to unite, so a cell whose
+/// first union leaves crossings is built again at [`SAFE_SWEEP_CAP`]
+/// ([`crate::mesher::mesh_morphology`]).
+pub const SWEEP_CAP: f64 = 1.25;
+
+/// The widening cap of the second construction, for cells whose first
+/// leaves crossings at [`SWEEP_CAP`]: at 1.15 the fly medulla cell unites
+/// whole, 1.13 % over the union of round cones' volume (−16.08 % at 1.25,
+/// its fillers given up).
+pub const SAFE_SWEEP_CAP: f64 = 1.15;
 
 /// Per point, how much wider its contour must be for the tube to sweep the
 /// volume its own stretch of skeleton does. A band between two contours
@@ -166,8 +176,8 @@ pub const MAX_SWEEP: f64 = 1.15;
 /// scale the tube covers only the smoothed length, while the round cones
 /// cover the jittering one. Over a window of a radius either side, the
 /// ratio of the two lengths is made up by the cross-section: the radius
-/// grows by its square root (at most [`MAX_SWEEP`]).
-fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize) -> Vec<f64> {
+/// grows by its square root (at most `cap`).
+fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize, cap: f64) -> Vec<f64> {
     let n = samples.len();
     // Running sums over the bands (band k joins points k and k + 1) of their
     // length along the mean of their normals, so that each point's window
@@ -194,7 +204,7 @@ fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize) -> Vec<f64> {
             if length <= 0.0 || swept <= 0.0 {
                 return 1.0;
             }
-            (length / swept).sqrt().clamp(1.0, MAX_SWEEP)
+            (length / swept).sqrt().clamp(1.0, cap)
         })
         .collect()
 }
@@ -219,7 +229,7 @@ mod tests {
 
     fn track(points: &[DVec3], r: f64, first: usize) -> Track {
         let radii = vec![r; points.len()];
-        Track::widened_from(points, &radii, &Params::DEFAULT, None, first)
+        Track::widened_from(points, &radii, &Params::DEFAULT, None, first, SWEEP_CAP)
     }
 
     fn widening(t: &Track) -> Vec<f64> {
@@ -262,7 +272,7 @@ mod tests {
         let middle = &f[f.len() / 4..3 * f.len() / 4];
         assert!(middle.iter().all(|&x| x > 1.005), "{middle:?}");
         assert!(
-            f.iter().all(|&x| (1.0..=MAX_SWEEP + 1e-12).contains(&x)),
+            f.iter().all(|&x| (1.0..=SWEEP_CAP + 1e-12).contains(&x)),
             "{f:?}"
         );
     }

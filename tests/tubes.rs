@@ -261,3 +261,29 @@ proptest! {
         assert_closed(&mesh, &what);
     }
 }
+
+/// The widening cap decides these files' volume: two FlyWire EM traces that
+/// jitter below their radius scale (−3.60 and −4.34 % of the union of round
+/// cones' volume with the tubes widened at most 1.15, −2.15 and −1.28 % at
+/// 1.25), and a fly medulla cell whose fillers crowd its thick trunks at
+/// 1.25 past what the overlap pass cuts (−16.08 % with the fillers given up;
+/// built again at 1.15, +1.13 %). Each comes within 3 % and uncrossed.
+#[test]
+fn the_sweep_cap_keeps_jittering_traces_and_crowded_trunks_within_three_percent() {
+    for name in [
+        "drosophila_flywire_720575940661139073.swc",
+        "drosophila_flywire_720575940661205633.swc",
+        "drosophila_medulla_L1_chklovskii_209.swc",
+    ] {
+        let m = Morphology::from_swc(common::real_dir().join(name)).expect("reads");
+        let mesh = mesh(&m);
+        assert_eq!(mesh.stats.overlap_pairs_left, 0, "{name}");
+        let r = mesh.view().check(Some(&m));
+        let union = r
+            .skeleton
+            .and_then(|k| k.union)
+            .expect("a morphology's check has the union");
+        let dv = 100.0 * (r.volume / union.volume - 1.0);
+        assert!(dv.abs() <= 3.0, "{name}: volume {dv:+.2} % of the union's");
+    }
+}
