@@ -68,13 +68,26 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
 /// overlap pass cuts; where the first union leaves crossings the cell is
 /// built again with the tubes widened at most to [`SAFE_SWEEP_CAP`] and
 /// finished there, retries and all ([`finish`]). Only such cells pay for
-/// the second construction.
+/// the second construction, and only if a contour was widened past the safe
+/// cap: otherwise the second would be the first again, and the retries go
+/// on from the first.
 ///
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn unite(morphology: &Morphology, params: &Params, stage: TubeStage) -> Result<Mesh> {
-    if let FirstTry::Clean(mesh) = first_try(stage) {
+    // Where no contour was widened past the safe cap, building again at it
+    // would give the same stage, and the same first try: the retries go on
+    // from this one.
+    let widened_past_safe = stage
+        .tracks
+        .iter()
+        .any(|t| t.widest() > SAFE_SWEEP_CAP * (1.0 + 1e-9));
+    let first = first_try(stage);
+    if let FirstTry::Clean(mesh) = first {
         return Ok(mesh);
+    }
+    if !widened_past_safe {
+        return retry(first, || construct_capped(morphology, params, SWEEP_CAP));
     }
     let safe = || construct_capped(morphology, params, SAFE_SWEEP_CAP);
     finish(safe()?, safe)
@@ -96,7 +109,14 @@ pub fn frame_origin_of(morphology: &Morphology, scale: f64) -> [f64; 3] {
 /// # Errors
 /// What `rebuild` returns.
 pub fn finish(stage: TubeStage, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result<Mesh> {
-    let (stuck, first_part, filler_of_part) = match first_try(stage) {
+    retry(first_try(stage), rebuild)
+}
+
+/// [`finish`] after its first try: the mesh it made, or the retries that
+/// leave out the fillers in the crossings it left, on the stage `rebuild`
+/// constructs again.
+fn retry(first: FirstTry, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result<Mesh> {
+    let (stuck, first_part, filler_of_part) = match first {
         FirstTry::Clean(mesh) | FirstTry::Crossed(mesh) => return Ok(mesh),
         FirstTry::Stuck {
             stuck,
@@ -462,9 +482,10 @@ pub fn build_fillers(stage: &mut TubeStage, params: &Params) {
             _ => params.cap_rings,
         },
         // A trunk's straight first cone ends flat unless it ends at its
-        // sample (see `starts::set_trunk_filler`).
+        // sample and the sample's sphere holds the dome (see
+        // `starts::set_trunk_filler`).
         |k| match straight(k) {
-            Some(s) if fillers[k].2 < s.track.samples.len() => 0,
+            Some(s) if s.flat_end || fillers[k].2 < s.track.samples.len() => 0,
             _ => params.cap_rings,
         },
     );
@@ -709,6 +730,7 @@ pub fn build_tubes_capped(
                 track,
                 first: s,
                 flat_start,
+                flat_end: false,
             }),
         ))
     };
@@ -718,11 +740,7 @@ pub fn build_tubes_capped(
         .iter()
         .enumerate()
         .filter_map(|(b, f)| {
-            let straight = filler_track[b].take().map(|track| Straight {
-                track,
-                first: 0,
-                flat_start: false,
-            });
+            let straight = filler_track[b].take();
             f.map(|f| (b as u32, f, straight))
         })
         .filter(|c| worth(c.1.2))

@@ -15,6 +15,7 @@
 use glam::DVec3;
 
 use crate::branch::{Attachment, Branch};
+use crate::filler::Straight;
 use crate::mesher::Geometry;
 use crate::morphology::Morphology;
 use crate::params::Params;
@@ -49,7 +50,7 @@ pub struct Starts {
     pub filler: Vec<Option<(usize, usize, f64)>>,
     /// Per branch, the track its filler is built from when it is not the
     /// branch's own: a trunk's first round cone, straight (`set_trunk_filler`).
-    pub filler_track: Vec<Option<Track>>,
+    pub filler_track: Vec<Option<Straight>>,
 }
 
 /// A trunk must leave the sphere at least this steeply (cosine between its
@@ -292,8 +293,14 @@ fn set_trunk_filler(
     }
     let end = last + 1;
     if let Some(span) = crate::filler::span(&straight, Some(end), cones) {
+        let flat_end = crate::filler::dome_leaves_sphere(&straight, radii[1]);
         out.filler[i] = Some(span);
-        out.filler_track[i] = Some(straight);
+        out.filler_track[i] = Some(Straight {
+            track: straight,
+            first: 0,
+            flat_start: false,
+            flat_end,
+        });
     }
 }
 

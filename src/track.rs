@@ -149,6 +149,19 @@ impl Track {
     }
 }
 
+impl Track {
+    /// The most any of the track's contours was widened where the trace
+    /// jitters (1 where none was).
+    pub fn widest(&self) -> f64 {
+        self.samples
+            .iter()
+            .zip(&self.counts)
+            .zip(&self.radii)
+            .map(|((s, &m), &r)| r / contour::polygon_radius(s.radius, m))
+            .fold(1.0, f64::max)
+    }
+}
+
 /// Most a contour's radius is widened where the trace jitters below the
 /// radius scale: the tube's bands sweep the length along their smoothed
 /// normals, the round cones the jittering length, and the radius grows by
@@ -230,6 +243,21 @@ mod tests {
     fn track(points: &[DVec3], r: f64, first: usize) -> Track {
         let radii = vec![r; points.len()];
         Track::widened_from(points, &radii, &Params::DEFAULT, None, first, SWEEP_CAP)
+    }
+
+    #[test]
+    fn the_widest_factor_is_the_largest_widening() {
+        let zigzag: Vec<DVec3> = (0..40)
+            .map(|i| DVec3::new(0.8 * f64::from(i), if i % 2 == 0 { 0.0 } else { 0.4 }, 0.0))
+            .collect();
+        let t = track(&zigzag, 1.0, 0);
+        let most = widening(&t).into_iter().fold(1.0, f64::max);
+        assert!(most > 1.005);
+        assert_eq!(t.widest(), most);
+        let straight: Vec<DVec3> = (0..20)
+            .map(|i| DVec3::new(f64::from(i), 0.0, 0.0))
+            .collect();
+        assert!((track(&straight, 1.0, 0).widest() - 1.0).abs() < 1e-3);
     }
 
     fn widening(t: &Track) -> Vec<f64> {
