@@ -113,6 +113,18 @@ impl Track {
         }
     }
 
+    /// How much point `i`'s contour was widened where the trace jitters.
+    pub fn widening(&self, i: usize) -> f64 {
+        self.radii[i] / contour::polygon_radius(self.samples[i].radius, self.counts[i])
+    }
+
+    /// The most any of the track's contours was widened (1 where none was).
+    pub fn widest(&self) -> f64 {
+        (0..self.samples.len())
+            .map(|i| self.widening(i))
+            .fold(1.0, f64::max)
+    }
+
     /// The track cut to its first `end` points (at least one).
     pub fn prefix(&self, end: usize) -> Track {
         let end = end.clamp(1, self.samples.len());
@@ -146,19 +158,6 @@ impl Track {
     /// Clearance margin between consecutive kept contours.
     pub fn margin(&self, a: usize, b: usize) -> f64 {
         0.02 * self.radii[a].min(self.radii[b])
-    }
-}
-
-impl Track {
-    /// The most any of the track's contours was widened where the trace
-    /// jitters (1 where none was).
-    pub fn widest(&self) -> f64 {
-        self.samples
-            .iter()
-            .zip(&self.counts)
-            .zip(&self.radii)
-            .map(|((s, &m), &r)| r / contour::polygon_radius(s.radius, m))
-            .fold(1.0, f64::max)
     }
 }
 
@@ -261,12 +260,7 @@ mod tests {
     }
 
     fn widening(t: &Track) -> Vec<f64> {
-        t.samples
-            .iter()
-            .zip(&t.counts)
-            .zip(&t.radii)
-            .map(|((s, &m), &r)| r / contour::polygon_radius(s.radius, m))
-            .collect()
+        (0..t.samples.len()).map(|i| t.widening(i)).collect()
     }
 
     #[test]
