@@ -3,10 +3,13 @@
 //! round-cone `sdf`), in units of the nearest primitive's radius, as a
 //! histogram of area, and the area-weighted mean distance.
 //!
+//! `OFFSETS_TOP=n` also prints the n samples whose round cones lie nearest
+//! the most area more than half a radius out.
+//!
 //! `cargo run --release --example surface_offsets -- FILE.swc...`
 use glam::DVec3;
 use neuromesh::bvh::{Aabb, Bvh};
-use neuromesh::union::skeleton_primitives;
+use neuromesh::union::labelled_primitives;
 
 /// Bucket edges, in radii of the nearest primitive.
 const EDGES: [f64; 8] = [-0.5, -0.2, -0.1, -0.03, 0.03, 0.1, 0.2, 0.5];
@@ -15,7 +18,8 @@ fn main() {
     for path in std::env::args().skip(1) {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
-        let cones = skeleton_primitives(&m);
+        let (cones, labels): (Vec<_>, Vec<u32>) = labelled_primitives(&m).unzip();
+        let mut far_out = vec![0.0; cones.len()];
         let reach = cones.iter().map(|c| c.ra.max(c.rb)).fold(0.0, f64::max);
         // Each cone's box grown by the largest radius: enough to find the
         // nearest cone of a face within that distance of the union.
@@ -29,18 +33,22 @@ fn main() {
                 .map(|&v| DVec3::from_array(mesh.position(v as usize)))
                 .sum::<DVec3>()
                 / 3.0;
-            let (mut best, mut radius) = (f64::INFINITY, 1.0);
+            let (mut best, mut radius, mut nearest) = (f64::INFINITY, 1.0, 0);
             bvh.for_each_overlap(&Aabb::of(&[c.to_array()]), |j| {
                 let cone = &cones[j as usize];
                 let s = cone.sdf(c);
                 if s < best {
                     best = s;
                     radius = cone.ra.max(cone.rb);
+                    nearest = j as usize;
                 }
             });
             let a = mesh.view().face_area(f);
             let k = EDGES.iter().take_while(|&&e| best / radius > e).count();
             hist[k] += a;
+            if k == EDGES.len() && best.is_finite() {
+                far_out[nearest] += a;
+            }
             total += a;
             if best.is_finite() {
                 mean_abs += a * best.abs();
@@ -58,6 +66,25 @@ fn main() {
                 100.0 * a / total
             );
             lo = hi;
+        }
+        // The samples whose cones lie nearest the area more than half a
+        // radius out, most first.
+        let top: usize = std::env::var("OFFSETS_TOP")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(0);
+        let mut order: Vec<usize> = (0..cones.len()).filter(|&j| far_out[j] > 0.0).collect();
+        order.sort_by(|&x, &y| far_out[y].total_cmp(&far_out[x]));
+        for &j in order.iter().take(top) {
+            let c = &cones[j];
+            println!(
+                "  {:6.3} % of the area more than 0.5 r out, nearest sample {} (r {:.3}..{:.3}, length {:.3})",
+                100.0 * far_out[j] / total,
+                m.ids()[labels[j] as usize],
+                c.ra,
+                c.rb,
+                (c.b - c.a).length()
+            );
         }
     }
 }
