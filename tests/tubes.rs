@@ -287,3 +287,39 @@ fn the_sweep_cap_keeps_jittering_traces_and_crowded_trunks_within_three_percent(
         assert!(dv.abs() <= 3.0, "{name}: volume {dv:+.2} % of the union's");
     }
 }
+
+/// A trace of long runs joined by short sharp steps (30-long runs, 3-high
+/// steps, radius 0.5) stays on the union of its round cones: the spline
+/// through the points would bulge off each run by more than the radius,
+/// and is held within a tenth of it of the chords
+/// (`spline::DEVIATION_BOUND`).
+#[test]
+fn long_runs_between_sharp_steps_stay_on_the_union_of_round_cones() {
+    let mut pts = Vec::new();
+    for k in 0..4 {
+        let (x, y) = (30.0 * f64::from(k), 3.0 * f64::from(k));
+        pts.push([x, y, 0.0]);
+        pts.push([x + 30.0, y, 0.0]);
+    }
+    let r = 0.5;
+    let m = path(&pts, &vec![r; pts.len()]);
+    let mesh = mesh(&m);
+    assert_sound(&mesh, "staircase of long runs");
+    let cones = neuromesh::union::skeleton_primitives(&m);
+    let worst = (0..mesh.vertices.len())
+        .map(|v| {
+            let p = glam::DVec3::from_array(mesh.position(v));
+            cones.iter().map(|c| c.sdf(p)).fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::NEG_INFINITY, f64::max);
+    // The contours' polygons reach 2.3 % of the radius out (their radius
+    // is corrected to the circle's cross-section); the chord bound adds 10 %.
+    assert!(worst <= 0.15 * r, "a vertex {worst:.4} outside the union");
+    let r = mesh.view().check(Some(&m));
+    let union = r.skeleton.and_then(|k| k.union).expect("the union");
+    let (da, dv) = (rel(r.area, union.area), rel(r.volume, union.volume));
+    assert!(
+        da.abs() < 0.03 && dv.abs() < 0.03,
+        "area {da:+.4}, volume {dv:+.4} of the union's"
+    );
+}
