@@ -291,7 +291,7 @@ pub fn smooth_tangents(samples: &mut [Sample]) {
 /// sharp turns (a spinal motoneuron) left 18 % and 48 % of the mesh's area
 /// more than half a radius outside the union, and volume as large inside
 /// it; the mean distance of the surface to the union's was 0.16 and 2.2
-/// radii. Bounded at a tenth of the radius, 0.03 and 0.08 (benches/README,
+/// µm. Bounded at a tenth of the radius, 0.03 and 0.08 µm (benches/README,
 /// "The spline held to its chords").
 pub const DEVIATION_BOUND: f64 = 0.1;
 
