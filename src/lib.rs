@@ -23,6 +23,7 @@ pub mod branch;
 pub mod bvh;
 pub mod check;
 pub mod contour;
+pub mod crofton;
 pub mod cut;
 pub mod error;
 pub mod filler;

@@ -7,43 +7,18 @@
 //! NeuroM radius, see [`crate::morphology::Soma`]); segments between two soma
 //! samples are left out, segments from a soma sample to a neurite are kept.
 //!
-//! The union has no closed form, so it is integrated by seeded Monte Carlo
-//! over each primitive's own surface and volume, whose measures are exact:
+//! The union has no closed form. Primitives that another single primitive
+//! contains are left out first (they add nothing: two thirds of the cones
+//! of a blob cell, [`crate::blob`]), and the rest is integrated along
+//! seeded random lines ([`crate::crofton`]): a line meets the union in
+//! intervals computed exactly, and integral geometry turns their crossings
+//! and lengths into area and volume.
 //!
-//! * **Area**: points uniform on primitive `i`'s surface that lie strictly
-//!   inside no other primitive are on the union's boundary, so the union's
-//!   area is `Σ A_i · (fraction of i's points outside all others)`. Where two
-//!   primitives share a piece of surface (consecutive cones share their joint's
-//!   sphere) a point on both counts for the lower index only.
-//! * **Volume**: a point uniform inside `i` is weighted by one over the
-//!   number of primitives holding it, so that `V = Σ V_i · (mean weight)`.
-//!
-//! Three things keep the estimate precise where primitives pile up, as on
-//! the blob cells ([`crate::blob`]), whose unions are hundreds of nearly
-//! concentric spheres:
-//!
-//! * Primitives that another single primitive contains are left out first
-//!   (they add nothing): two thirds of the cones of a blob cell.
-//! * The volume's weights: counting only the points in no primitive of lower
-//!   index has the same mean, but where hundreds of primitives overlap nearly
-//!   every point counts zero and the rare ones decide.
-//! * The surface points come in two rounds. A pilot spreads them in
-//!   proportion to each part's area; the main round, the only one counted,
-//!   in proportion to the area times the standard deviation of the pilot's
-//!   hit rate (Neyman allocation), so buried parts get few points and
-//!   exposed ones many. The primitives are ordered largest first, so the
-//!   tests stop at the first (largest) primitive that covers a point.
-//!
-//! Over three seeds, the estimates spread (largest less smallest, over the
-//! mean) by 0.5 % in area and 0.2 % in volume on the fly larva A00b, an
-//! ordinary cell. The blob cells stay unsure in area: 14 % on the
-//! 66,578-sample CAR cell (60 % before these steps) and 4 % on CAR 00148
-//! (10 %); in volume 2.1 % (9 %) and 0.1 % (1.5 %). Results are identical
-//! from run to run. With twenty times the points, CAR 00148's area came
-//! within 0.21 % of its mesh's, a radial graph over its exactly
-//! star-shaped union ([`crate::blob`]); the mesh is 4.86 % over the
-//! estimate at the default budget, which stays because that run took 89 s
-//! (CAR 66k's, 31 minutes).
+//! Over three seeds the estimates spread (largest less smallest, over the
+//! mean) by 0.02 to 0.5 % in area and volume on ordinary cells, and by
+//! under 0.5 % on the blob cells, where the surface-point estimator used
+//! before spread by 14 % and came out 5 to 8 % under the union's area.
+//! Results are identical from run to run.
 
 use glam::DVec3;
 
@@ -72,12 +47,6 @@ pub struct UnionMeasures {
     /// Volume of the union.
     pub volume: f64,
 }
-
-/// Surface points of the pilot round, which sets how the main round's are
-/// spread.
-const PILOT: usize = 100_000;
-/// Surface points of the main round, and volume points, over the whole union.
-const SAMPLES: usize = 200_000;
 
 impl RoundCone {
     /// A sphere.
@@ -133,7 +102,7 @@ impl RoundCone {
 
     /// Exact surface area and volume, and the parts' areas for sampling:
     /// (cap at a, lateral, cap at b), with `sin φ` of the tangent cone.
-    fn parts(&self) -> ([f64; 3], f64, f64) {
+    pub(crate) fn parts(&self) -> ([f64; 3], f64, f64) {
         use std::f64::consts::PI;
         if self.is_sphere() {
             let r = self.ra;
@@ -213,178 +182,11 @@ pub fn measure_morphology(m: &Morphology) -> UnionMeasures {
     measure(&skeleton_primitives(m))
 }
 
-/// Measures of the union of `cones` (see the module documentation).
+/// Measures of the union of `cones`, from random lines (see [`crate::crofton`]).
 pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
     let cones = exposed(cones);
-    if cones.is_empty() {
-        return UnionMeasures::default();
-    }
-    let sampler = Sampler::new(&cones);
-    // Each primitive's three surface parts and its volume, measured exactly.
-    let sizes: Vec<[f64; 4]> = sampler
-        .parts
-        .iter()
-        .map(|&(a, v, _)| [a[0], a[1], a[2], v])
-        .collect();
-    let totals = sizes
-        .iter()
-        .fold([0.0; 2], |t, s| [t[0] + s[0] + s[1] + s[2], t[1] + s[3]]);
-    let total_of = |k: usize| totals[usize::from(k == 3)];
-    // The pilot: points on the surface in proportion to each part's area.
-    let pilot: Vec<[u32; 4]> = sizes
-        .iter()
-        .map(|s| {
-            std::array::from_fn(|k| {
-                if k == 3 {
-                    0
-                } else {
-                    samples_for(s[k], total_of(k), PILOT)
-                }
-            })
-        })
-        .collect();
-    let pilot_hits =
-        crate::parallel::flat_map_range(cones.len(), |i| vec![sampler.hits(i, pilot[i], 1)]);
-    // Neyman allocation: the surface points go where the product of a part's
-    // area and the standard deviation of its hit rate is large. On an
-    // ordinary cell that is about in proportion to the area; on a blob cell,
-    // whose primitives lie nearly all inside others, it is the few that show.
-    // The volume points stay in proportion to the volumes (their weights do
-    // not vary as much as hits do).
-    let spread: Vec<[f64; 4]> = (0..cones.len())
-        .map(|i| {
-            std::array::from_fn(|k| {
-                let f = (pilot_hits[i][k] + 0.5) / (f64::from(pilot[i][k]) + 1.0);
-                sizes[i][k] * (f * (1.0 - f)).sqrt()
-            })
-        })
-        .collect();
-    let spread_total: f64 = spread.iter().map(|s| s[0] + s[1] + s[2]).sum();
-    let main: Vec<[u32; 4]> = spread
-        .iter()
-        .zip(&sizes)
-        .map(|(s, size)| {
-            let mut n: [u32; 4] = std::array::from_fn(|k| samples_for(s[k], spread_total, SAMPLES));
-            n[3] = samples_for(size[3], totals[1], SAMPLES);
-            n
-        })
-        .collect();
-    // Only the main points are counted: the pilot's chose their number, so
-    // pooling them would bias the estimate.
-    let per_cone = crate::parallel::flat_map_range(cones.len(), |i| {
-        let hits = sampler.hits(i, main[i], 2);
-        let part = |k: usize| {
-            if main[i][k] == 0 {
-                0.0
-            } else {
-                sizes[i][k] * hits[k] / f64::from(main[i][k])
-            }
-        };
-        vec![(part(0) + part(1) + part(2), part(3))]
-    });
-    UnionMeasures {
-        area: per_cone.iter().map(|p| p.0).sum(),
-        volume: per_cone.iter().map(|p| p.1).sum(),
-    }
-}
-
-/// Random points on and in the primitives, and which of them count.
-struct Sampler<'a> {
-    cones: &'a [RoundCone],
-    boxes: Vec<Aabb>,
-    bvh: Bvh,
-    /// [`RoundCone::parts`] of each primitive.
-    parts: Vec<([f64; 3], f64, f64)>,
-    /// Distance under which a surface point counts as on another surface.
-    eps: f64,
-}
-
-impl<'a> Sampler<'a> {
-    fn new(cones: &'a [RoundCone]) -> Sampler<'a> {
-        // Which primitives may contain a point of a given one: box overlaps.
-        let boxes: Vec<Aabb> = cones.iter().map(RoundCone::aabb).collect();
-        let bvh = Bvh::new(boxes.clone());
-        let scale = cones
-            .iter()
-            .map(|c| c.ra.max(c.rb))
-            .fold(0.0, f64::max)
-            .max(1e-300);
-        Sampler {
-            cones,
-            boxes,
-            bvh,
-            parts: cones.iter().map(RoundCone::parts).collect(),
-            eps: 1e-9 * scale,
-        }
-    }
-
-    /// Of `n[k]` random points on part `k` of primitive `i` (`k` < 3: cap at
-    /// a, lateral, cap at b), how many count: those strictly inside no other
-    /// primitive (a point on two surfaces counts for the lower index); and of
-    /// `n[3]` random points inside it, the sum of their weights, one over the
-    /// number of primitives that hold each. Round `round` draws its own
-    /// points.
-    fn hits(&self, i: usize, n: [u32; 4], round: u64) -> [f64; 4] {
-        let cones = self.cones;
-        let mut rng = Rng::new(
-            0x5EED
-                ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-                ^ round.wrapping_mul(0xD1B5_4A32_D192_ED03),
-        );
-        let c = &cones[i];
-        let (_, _, sin) = self.parts[i];
-        let (e1, e2, u, d) = frame(c);
-        let mut near = Vec::new();
-        self.bvh.for_each_overlap(&self.boxes[i], |j| {
-            if j as usize != i {
-                near.push(j);
-            }
-        });
-        // Larger primitives first (the order of the indices): they cover most
-        // points, so the tests below stop early.
-        near.sort_unstable();
-        let mut hits = [0.0; 4];
-        for part in 0..3 {
-            for _ in 0..n[part] {
-                let p = surface_point(c, part, sin, (e1, e2, u, d), &mut rng);
-                let covered = near.iter().any(|&j| {
-                    let near_box = self.boxes[j as usize].inflated(self.eps);
-                    if !near_box.holds_point(p.to_array()) {
-                        return false;
-                    }
-                    let s = cones[j as usize].sdf(p);
-                    s < -self.eps || (s <= self.eps && (j as usize) < i)
-                });
-                hits[part] += f64::from(u8::from(!covered));
-            }
-        }
-        // Volume: uniform points inside, by rejection from a bounding
-        // cylinder, each weighted by one over the number of primitives that
-        // hold it. Counting the points in no primitive of lower index instead
-        // has the same mean, but where hundreds of primitives overlap (the
-        // blob cells) nearly every point counts zero and the rare ones decide.
-        let rmax = c.ra.max(c.rb);
-        let mut drawn = 0;
-        while drawn < n[3] {
-            let x = -c.ra + rng.next() * (d + c.ra + c.rb);
-            let rho = rmax * rng.next().sqrt();
-            let th = std::f64::consts::TAU * rng.next();
-            let p = c.a + u * x + rho * (th.cos() * e1 + th.sin() * e2);
-            if c.sdf(p) > 0.0 {
-                continue;
-            }
-            drawn += 1;
-            let holders = 1 + near
-                .iter()
-                .filter(|&&j| {
-                    self.boxes[j as usize].holds_point(p.to_array())
-                        && cones[j as usize].sdf(p) <= 0.0
-                })
-                .count();
-            hits[3] += 1.0 / holders as f64;
-        }
-        hits
-    }
+    let (area, volume) = crate::crofton::measure(&cones, crate::crofton::LINES);
+    UnionMeasures { area, volume }
 }
 
 /// The primitives (normalised) that no other single primitive contains.
@@ -394,9 +196,8 @@ impl<'a> Sampler<'a> {
 /// centre is at least its radius inside (the `sdf` is never deeper than the
 /// true distance to the surface, so the test is safe). Of two equal
 /// primitives the first is kept. Those left out add nothing to the union's
-/// area or volume, and leaving them out matters where sample points are
-/// scarce: on the blob cells (radius codes) two thirds of the cones lie
-/// inside the largest sphere and took two thirds of the samples.
+/// area or volume, and on the blob cells (radius codes) two thirds of the
+/// cones lie inside the largest sphere: leaving them out spares their lines.
 fn exposed(cones: &[RoundCone]) -> Vec<RoundCone> {
     // Largest first (a stable sort, so equal volumes keep their order): see
     // `measure`.
@@ -426,81 +227,10 @@ fn exposed(cones: &[RoundCone]) -> Vec<RoundCone> {
     })
 }
 
-/// Points for a part of measure `part` out of `total`, from a budget of
-/// `budget` (at least 2 for a part of positive measure, none for a part of
-/// measure zero).
-fn samples_for(part: f64, total: f64, budget: usize) -> u32 {
-    if part <= 0.0 {
-        return 0;
-    }
-    ((budget as f64 * part / total).ceil() as usize).clamp(2, budget) as u32
-}
-
-/// Orthonormal frame along the cone's axis, and its length.
-fn frame(c: &RoundCone) -> (DVec3, DVec3, DVec3, f64) {
-    let ab = c.b - c.a;
-    let d = ab.length();
-    let u = if d > 0.0 { ab / d } else { DVec3::Z };
-    let e1 = crate::contour::any_perpendicular(u);
-    (e1, u.cross(e1), u, d)
-}
-
-/// A point uniform on part `part` (0: cap at a, 1: lateral, 2: cap at b).
-fn surface_point(
-    c: &RoundCone,
-    part: usize,
-    sin: f64,
-    (e1, e2, u, d): (DVec3, DVec3, DVec3, f64),
-    rng: &mut Rng,
-) -> DVec3 {
-    let th = std::f64::consts::TAU * rng.next();
-    let around = th.cos() * e1 + th.sin() * e2;
-    let on_sphere = |center: DVec3, r: f64, z: f64| {
-        // Archimedes: the axial coordinate of a uniform point is uniform.
-        center + u * z + around * (r * r - z * z).max(0.0).sqrt()
-    };
-    if c.is_sphere() {
-        return on_sphere(c.a, c.ra, c.ra * (2.0 * rng.next() - 1.0));
-    }
-    match part {
-        0 => on_sphere(c.a, c.ra, -c.ra + rng.next() * c.ra * (1.0 + sin)),
-        2 => on_sphere(c.b, c.rb, c.rb * sin + rng.next() * c.rb * (1.0 - sin)),
-        _ => {
-            // Lateral: radius linear along the slant, density ∝ radius.
-            let cos = (1.0 - sin * sin).max(0.0).sqrt();
-            let (pa, pb) = (c.ra * cos, c.rb * cos);
-            let w = rng.next();
-            let s = if (pa - pb).abs() < 1e-12 * pa.max(pb) {
-                w
-            } else {
-                // Inverse of the CDF ∝ pa·s + (pb − pa)·s²/2.
-                let (qa, qb) = (pa * pa, pb * pb);
-                ((qa + w * (qb - qa)).sqrt() - pa) / (pb - pa)
-            };
-            let (xa, xb) = (c.ra * sin, d + c.rb * sin);
-            c.a + u * (xa + s * (xb - xa)) + around * (pa + s * (pb - pa))
-        }
-    }
-}
-
-/// xorshift64*: small, seeded, good enough for integration.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Rng {
-        Rng(seed.max(1))
-    }
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::crofton::Rng;
     use std::f64::consts::PI;
 
     fn close(got: f64, want: f64, tol: f64) {
@@ -509,9 +239,12 @@ mod tests {
 
     #[test]
     fn one_sphere_is_exact() {
+        // Every line crosses a lone convex body twice, so its area is
+        // exact; its volume is the mean chord's, which varies from line to
+        // line (0.06 % off with the default lines).
         let m = measure(&[RoundCone::sphere(DVec3::ONE, 2.0)]);
-        close(m.area, 16.0 * PI, 1e-12);
-        close(m.volume, 32.0 / 3.0 * PI, 1e-12);
+        close(m.area, 16.0 * PI, 1e-9);
+        close(m.volume, 32.0 / 3.0 * PI, 0.002);
     }
 
     #[test]
@@ -574,7 +307,7 @@ mod tests {
             RoundCone::sphere(DVec3::new(0.5, 0.0, 0.0), 1.0),
         ]);
         close(m.area, 36.0 * PI, 1e-9);
-        close(m.volume, 36.0 * PI, 1e-9);
+        close(m.volume, 36.0 * PI, 0.002);
     }
 
     /// Two spheres whose union has a closed form, under hundreds of round

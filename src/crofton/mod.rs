@@ -1,0 +1,180 @@
+//! The union's area and volume from random lines (Cauchy–Crofton), the
+//! estimator behind [`crate::union::measure`].
+//!
+//! A line meets the union of convex primitives in a union of intervals, one
+//! per primitive it crosses, and that union is computed exactly
+//! (`intervals.rs`). Two integral-geometry identities turn it into the
+//! measures, for lines whose direction is uniform on the sphere and whose
+//! foot is spread with unit density over the plane across that direction:
+//!
+//! * Cauchy–Crofton: `E_dir[∫ n dfoot] = A / 2`, with `n` the number of
+//!   times the line crosses the union's boundary (a surface element `dA` is
+//!   crossed by the lines of direction `u` over `|u · normal| dA`, whose
+//!   mean over directions is 1/2);
+//! * Cavalieri: `∫ ℓ dfoot = V` for every direction, with `ℓ` the length of
+//!   the line inside the union.
+//!
+//! The lines are drawn in one of two ways, both exact in expectation:
+//!
+//! * `by_primitive.rs`, for ordinary cells: lines through each primitive,
+//!   each weighted by one over the number of primitives that make up the
+//!   piece of the union it passes through there. A line through a neurite
+//!   meets a handful of primitives, and the estimate spreads by 0.02 to
+//!   0.3 % over seeds.
+//! * `by_box.rs`, where primitives pile up as on the blob cells
+//!   ([`crate::blob`]), thousands of nearly concentric spheres, and a line
+//!   through one of them meets thousands: space is cut into boxes, a box
+//!   that one primitive holds whole adds its volume exactly, and only the
+//!   boxes on the boundary are sampled.
+//!
+//! A probe of a few hundred lines picks between them by what a line costs.
+//!
+//! Both draw in two rounds. A pilot spreads lines evenly; the main round,
+//! the only one counted, spreads them in proportion to the standard
+//! deviation of the pilot's values over the root of a line's cost (Neyman
+//! allocation with costs), within a budget of lines and of intervals.
+//!
+//! Why lines rather than points on each primitive's surface (the estimator
+//! used before 2026-12-05): a surface point counts only when no other
+//! primitive covers it, and on the blob cells almost every point is
+//! covered, so the few exposed ones decided the area; three seeds spread by
+//! 14 % on the 66,578-sample CAR cell, and the estimate was 8 % under the
+//! union's area, which both line estimators agree on within 0.1 %.
+
+mod by_box;
+mod by_primitive;
+mod intervals;
+
+pub(crate) use intervals::line_interval;
+
+use crate::union::RoundCone;
+
+/// Lines of the pilot round.
+pub const PILOT: usize = 50_000;
+/// Lines of the main round, the only one counted.
+pub const LINES: usize = 200_000;
+/// The rounds' budgets of intervals computed, per line of their line
+/// budgets: where a line costs more, a round takes fewer lines.
+const COST_PER_LINE: f64 = 1000.0;
+/// Lines of the probe that picks the estimator.
+const PROBE: usize = 256;
+/// Mean intervals per probe line above which the boxes are used: about 10
+/// on ordinary cells, 950 on the smaller CAR blob cell.
+const PILED: f64 = 100.0;
+
+/// Area and volume of the union of `cones` (primitives that no other single
+/// one contains, normalised, as [`crate::union::measure`] passes them), with
+/// up to `lines` lines in the main round. Results are identical from run to
+/// run and for any number of threads.
+pub(crate) fn measure(cones: &[RoundCone], lines: usize) -> (f64, f64) {
+    if cones.is_empty() {
+        return (0.0, 0.0);
+    }
+    let seed = 0;
+    if by_primitive::probe(cones, PROBE) > PILED {
+        by_box::measure(cones, lines, seed)
+    } else {
+        by_primitive::measure(cones, lines, seed)
+    }
+}
+
+/// The running mean and variance of one box's line values.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct Moments {
+    n: f64,
+    sum: f64,
+    squares: f64,
+}
+
+impl Moments {
+    fn add(&mut self, y: f64) {
+        self.n += 1.0;
+        self.sum += y;
+        self.squares += y * y;
+    }
+    fn merge(&mut self, other: &Moments) {
+        self.n += other.n;
+        self.sum += other.sum;
+        self.squares += other.squares;
+    }
+    fn mean(&self) -> f64 {
+        if self.n > 0.0 { self.sum / self.n } else { 0.0 }
+    }
+    fn variance(&self) -> f64 {
+        (self.squares / self.n - self.mean().powi(2)).max(0.0)
+    }
+}
+
+/// One box's lines: the values whose means are its shares of the union's
+/// area and volume, and what its lines cost (in intervals).
+#[derive(Default, Clone, Copy)]
+pub(crate) struct Tally {
+    area: Moments,
+    volume: Moments,
+    cost: f64,
+}
+
+impl Tally {
+    fn merge(&mut self, other: &Tally) {
+        self.area.merge(&other.area);
+        self.volume.merge(&other.volume);
+        self.cost += other.cost;
+    }
+}
+
+pub(crate) fn totals(tallies: &[Tally]) -> (f64, f64) {
+    tallies.iter().fold((0.0, 0.0), |(a, v), t| {
+        (a + t.area.mean(), v + t.volume.mean())
+    })
+}
+
+/// The main round's lines per stratum from the pilot's tallies: Neyman
+/// allocation with costs, the value's spread (area and volume, each relative
+/// to the union's) over the root of a line's cost, within the budgets of
+/// `lines` lines and `lines · COST_PER_LINE` intervals; at least `least`.
+pub(crate) fn allocate(pilot: &[Tally], lines: usize, least: u32) -> Vec<u32> {
+    let (area, volume) = totals(pilot);
+    let spreads: Vec<(f64, f64)> = pilot
+        .iter()
+        .map(|t| {
+            let spread = (t.area.variance() / (area * area)
+                + t.volume.variance() / (volume * volume))
+                .sqrt();
+            (
+                if spread.is_finite() { spread } else { 0.0 },
+                (t.cost / t.area.n).max(1.0),
+            )
+        })
+        .collect();
+    let by_lines: f64 = spreads.iter().map(|(s, c)| s / c.sqrt()).sum();
+    let by_cost: f64 = spreads.iter().map(|(s, c)| s * c.sqrt()).sum();
+    let scale = if by_lines > 0.0 {
+        (lines as f64 / by_lines).min(lines as f64 * COST_PER_LINE / by_cost)
+    } else {
+        0.0
+    };
+    spreads
+        .iter()
+        .map(|(s, c)| ((scale * s / c.sqrt()).ceil() as u32).max(least))
+        .collect()
+}
+
+/// xorshift64*: small, seeded, good enough for integration.
+pub(crate) struct Rng(u64);
+
+/// The generator of one stratum (primitive or box) in one round.
+pub(crate) fn stream(seed: u64, stratum: usize) -> Rng {
+    Rng::new(0xC50F_70A5 ^ seed ^ (stratum as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+}
+
+impl Rng {
+    pub(crate) fn new(seed: u64) -> Rng {
+        Rng(seed.max(1))
+    }
+    pub(crate) fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
