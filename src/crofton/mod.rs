@@ -131,7 +131,8 @@ pub(crate) fn totals(tallies: &[Tally]) -> (f64, f64) {
 /// The main round's lines per stratum from the pilot's tallies: Neyman
 /// allocation with costs, the value's spread (area and volume, each relative
 /// to the union's) over the root of a line's cost, within the budgets of
-/// `lines` lines and `lines · COST_PER_LINE` intervals; at least `least`.
+/// `lines` lines and `lines · COST_PER_LINE` intervals; at least `least`
+/// and at least as many as the pilot drew.
 pub(crate) fn allocate(pilot: &[Tally], lines: usize, least: u32) -> Vec<u32> {
     let (area, volume) = totals(pilot);
     let spreads: Vec<(f64, f64)> = pilot
@@ -153,9 +154,13 @@ pub(crate) fn allocate(pilot: &[Tally], lines: usize, least: u32) -> Vec<u32> {
     } else {
         0.0
     };
+    // Never fewer than the pilot drew there: a stratum whose few pilot
+    // lines all missed what it holds looks certain, and starving it would
+    // make the estimate usually low and rarely far too high.
     spreads
         .iter()
-        .map(|(s, c)| ((scale * s / c.sqrt()).ceil() as u32).max(least))
+        .zip(pilot)
+        .map(|((s, c), t)| ((scale * s / c.sqrt()).max(t.area.n).ceil() as u32).max(least))
         .collect()
 }
 
@@ -176,5 +181,109 @@ impl Rng {
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
         (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    use std::f64::consts::PI;
+
+    fn close(got: f64, want: f64, tol: f64) {
+        assert!((got / want - 1.0).abs() < tol, "{got} against {want}");
+    }
+
+    /// Two overlapping spheres, whose union has a closed form, under 300
+    /// round cones inside the larger one: both estimators, fed every
+    /// primitive (nothing left out first), find the two spheres' union.
+    #[test]
+    fn both_ways_find_two_spheres_under_a_pile() {
+        let (big, small, d) = (10.0, 3.0, 10.0);
+        let mut cones = vec![
+            RoundCone::sphere(DVec3::ZERO, big),
+            RoundCone::sphere(DVec3::new(d, 0.0, 0.0), small),
+        ];
+        let mut rng = Rng::new(5);
+        for _ in 0..300 {
+            let mut at = || DVec3::new(rng.next(), rng.next(), rng.next()) * 8.0 - 4.0;
+            let (a, b) = (at(), at());
+            cones.push(RoundCone {
+                a,
+                ra: 1.0 + rng.next(),
+                b,
+                rb: 0.5,
+            });
+        }
+        let h_big = (small - big + d) * (small + big - d) / (2.0 * d);
+        let h_small = (big - small + d) * (big + small - d) / (2.0 * d);
+        let area =
+            4.0 * PI * (big * big + small * small) - 2.0 * PI * (big * h_big + small * h_small);
+        let lens = PI
+            * (big + small - d).powi(2)
+            * (d * d + 2.0 * d * small - 3.0 * small * small + 2.0 * d * big + 6.0 * small * big
+                - 3.0 * big * big)
+            / (12.0 * d);
+        let volume = 4.0 / 3.0 * PI * (big.powi(3) + small.powi(3)) - lens;
+        // The boxes are the noisier way off the blobs: over seeds 1 to 5
+        // with the default lines, −1.1 to +1.1 % in area and −0.44 to
+        // +0.02 % in volume here (±0.3 % with four times the lines).
+        for (name, (a, v), tol) in [
+            (
+                "per primitive",
+                by_primitive::measure(&cones, LINES, 1),
+                0.01,
+            ),
+            ("per box", by_box::measure(&cones, LINES, 1), 0.02),
+        ] {
+            assert!(
+                (a / area - 1.0).abs() < tol,
+                "{name}: area {a} against {area}"
+            );
+            assert!(
+                (v / volume - 1.0).abs() < tol,
+                "{name}: volume {v} against {volume}"
+            );
+        }
+    }
+
+    /// A blob: 400 spheres of nearly one radius around nearly one centre,
+    /// which the probe sends to the boxes; the two estimators agree.
+    #[test]
+    fn a_blob_goes_to_the_boxes_and_both_ways_agree() {
+        let mut rng = Rng::new(9);
+        let cones: Vec<RoundCone> = (0..400)
+            .map(|_| {
+                let c = DVec3::new(rng.next(), rng.next(), rng.next()) * 2.0 - 1.0;
+                RoundCone::sphere(c, 6.0 + rng.next())
+            })
+            .collect();
+        assert!(by_primitive::probe(&cones, PROBE) > PILED);
+        let (a1, v1) = by_primitive::measure(&cones, 100_000, 2);
+        let (a2, v2) = by_box::measure(&cones, 100_000, 2);
+        close(a1, a2, 0.01);
+        close(v1, v2, 0.01);
+        // Between the largest sphere alone and the hull of all.
+        assert!(v2 > 4.0 / 3.0 * PI * 6.9f64.powi(3) && v2 < 4.0 / 3.0 * PI * 8.8f64.powi(3));
+    }
+
+    /// The same lines for any number of threads and from run to run.
+    #[test]
+    fn results_do_not_depend_on_the_threads() {
+        let cones: Vec<RoundCone> = (0..50)
+            .map(|k| {
+                let x = f64::from(k);
+                RoundCone {
+                    a: DVec3::new(x, (x * 0.7).sin(), 0.0),
+                    ra: 0.5,
+                    b: DVec3::new(x + 1.0, ((x + 1.0) * 0.7).sin(), 0.0),
+                    rb: 0.5,
+                }
+            })
+            .collect();
+        let one = crate::parallel::with_threads(Some(1), || measure(&cones, 20_000)).unwrap();
+        let two = crate::parallel::with_threads(Some(2), || measure(&cones, 20_000)).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one, measure(&cones, 20_000));
     }
 }
