@@ -201,8 +201,11 @@ pub fn measure(cones: &[RoundCone]) -> UnionMeasures {
 fn exposed(cones: &[RoundCone]) -> Vec<RoundCone> {
     // Largest first (a stable sort, so equal volumes keep their order): see
     // `measure`.
+    // A primitive of no radius at all has no area or volume, and no line
+    // can be drawn through it.
     let mut by_volume: Vec<(f64, RoundCone)> = cones
         .iter()
+        .filter(|c| c.ra.max(c.rb) > 0.0)
         .map(|c| {
             let c = c.normalised();
             (c.parts().1, c)
@@ -349,6 +352,20 @@ mod tests {
         let m = measure(&cones);
         close(m.area, area, 0.005);
         close(m.volume, volume, 0.005);
+    }
+
+    #[test]
+    fn primitives_without_radius_add_nothing() {
+        let line = RoundCone {
+            a: DVec3::ZERO,
+            ra: 0.0,
+            b: DVec3::X,
+            rb: 0.0,
+        };
+        let point = RoundCone::sphere(DVec3::ONE, 0.0);
+        assert_eq!(measure(&[line, point]), UnionMeasures::default());
+        let m = measure(&[line, RoundCone::sphere(DVec3::ZERO, 1.0)]);
+        close(m.area, 4.0 * PI, 1e-9);
     }
 
     #[test]

@@ -3,7 +3,8 @@
 //! Space is cut into disjoint boxes, so each boundary crossing and each
 //! piece of length lies in one box and the measures are sums over boxes. A
 //! box is halved across its longest side while more than [`LEAF`]
-//! primitives reach into it or it is wide against its thinnest member; a
+//! primitives reach into it or it is wide against its thinnest member (by
+//! its larger radius); a
 //! box that one primitive contains whole (all eight corners inside a convex
 //! primitive) adds its volume exactly and no area, and a box no primitive
 //! reaches adds nothing. Lines through the remaining boxes come from the
@@ -23,7 +24,7 @@ use super::{PILOT, Rng, Tally, allocate, line_interval, stream, totals};
 use crate::union::RoundCone;
 
 /// Most primitives reaching into a box that is sampled rather than halved.
-pub const LEAF: usize = 8;
+const LEAF: usize = 8;
 /// Largest circumscribed radius of a sampled box, in radii of its thinnest
 /// member.
 const THIN: f64 = 2.0;
@@ -33,6 +34,7 @@ const THIN: f64 = 2.0;
 const FINE: f64 = 0.5;
 /// Halvings after which a box is sampled however many primitives reach in.
 const MAX_DEPTH: u32 = 64;
+
 /// A box to sample and the primitives that reach into it.
 struct Cell {
     lo: DVec3,
@@ -124,7 +126,8 @@ fn split(
     // member's scale too.
     let thinnest = members
         .iter()
-        .map(|&j| cones[j as usize].ra.min(cones[j as usize].rb))
+        // A cone's larger radius: a cone may taper to a point.
+        .map(|&j| cones[j as usize].ra.max(cones[j as usize].rb))
         .fold(f64::INFINITY, f64::min);
     if (members.len() <= LEAF && half <= THIN * thinnest)
         || half <= FINE * thinnest
