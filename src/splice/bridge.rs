@@ -272,11 +272,7 @@ impl Splicer<'_> {
     /// (except where they share vertices or edges properly), and every edge
     /// they or the `removed` triangles had is now either gone or shared by
     /// exactly two live triangles running it in opposite directions.
-    fn bridge_is_clear(
-        &mut self,
-        first: u32,
-        removed: &[u32],
-    ) -> Result<(), &'static str> {
+    fn bridge_is_clear(&mut self, first: u32, removed: &[u32]) -> Result<(), &'static str> {
         let n = self.surface.tris.len() as u32;
         let mut b = Aabb::EMPTY;
         for t in (first..n).chain(removed.iter().copied()) {
