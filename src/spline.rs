@@ -314,19 +314,16 @@ fn smooth_tangents_at(samples: &mut [Sample], scales: &[f64]) {
     }
     let mut level = vec![0usize; n];
     let mut tangents: Vec<DVec3> = (0..n).map(|i| tangent(i, scales[0])).collect();
+    // The points raised in a pass (once each per raise; their tangents are
+    // recomputed after it, the others kept).
+    let mut raised: Vec<usize> = Vec::new();
     for _ in 1..scales.len() {
-        let mut raised = false;
+        raised.clear();
         let mut i = 0;
         while i + 1 < n {
             let (a, b) = (&samples[i], &samples[i + 1]);
-            let disc = |s: &Sample, t: DVec3| DiscFrame {
-                center: s.pos,
-                normal: t,
-                radius: TURN_DISC * s.radius,
-            };
-            let margin = 0.02 * a.radius.min(b.radius);
             if segment[i].min(segment[i + 1]) < TURN_SEGMENT * a.radius.max(b.radius)
-                || disc(a, tangents[i]).clears(&disc(b, tangents[i + 1]), margin)
+                || turn_discs_clear(a, tangents[i], b, tangents[i + 1])
             {
                 i += 1;
                 continue;
@@ -334,24 +331,35 @@ fn smooth_tangents_at(samples: &mut [Sample], scales: &[f64]) {
             let reach = TURN_REACH * a.radius.max(b.radius);
             let lo = arc.partition_point(|&s| s < arc[i] - reach);
             let hi = arc.partition_point(|&s| s <= arc[i + 1] + reach);
-            for l in &mut level[lo..hi] {
+            for (k, l) in level.iter_mut().enumerate().take(hi).skip(lo) {
                 if *l + 1 < scales.len() {
                     *l += 1;
-                    raised = true;
+                    raised.push(k);
                 }
             }
             i = hi.max(i + 1);
         }
-        if !raised {
+        if raised.is_empty() {
             break;
         }
-        for (i, t) in tangents.iter_mut().enumerate() {
-            *t = tangent(i, scales[level[i]]);
+        for &k in &raised {
+            tangents[k] = tangent(k, scales[level[k]]);
         }
     }
     for (s, t) in samples.iter_mut().zip(tangents) {
         s.tangent = t;
     }
+}
+
+/// Whether the discs [`smooth_tangents`] tests at neighbouring samples `a`
+/// and `b` (oriented along `ta` and `tb`) clear each other.
+fn turn_discs_clear(a: &Sample, ta: DVec3, b: &Sample, tb: DVec3) -> bool {
+    let disc = |s: &Sample, t: DVec3| DiscFrame {
+        center: s.pos,
+        normal: t,
+        radius: TURN_DISC * s.radius,
+    };
+    disc(a, ta).clears(&disc(b, tb), 0.02 * a.radius.min(b.radius))
 }
 
 /// The scales, in radii, at which [`smooth_tangents`] orients contours: the
@@ -366,7 +374,7 @@ pub const TURN_REACH: f64 = 2.0;
 /// [`smooth_tangents`] widens the scale only where both crossing discs lie on
 /// original segments at least this many radii long (a diameter). Widened on
 /// every crossing, the jittering electron-microscopy traces (segments shorter
-/// than their radius) lost the skipping that kept their tubes smooth: two
+/// than a diameter) lost the skipping that kept their tubes smooth: two
 /// FlyWire neurons and a fly larva neuron went from +2.5, +2.3 and +1.4 % of
 /// the union's area to +4.6, +3.5 and +3.7 %, and the fly medulla neuron's
 /// first union failed (its volume −4.1 %). With this rule all four stay
@@ -641,13 +649,8 @@ mod tests {
     /// Pairs of neighbouring samples whose discs (as `smooth_tangents`
     /// tests them) cross.
     fn crossing_pairs(s: &[Sample]) -> usize {
-        let disc = |x: &Sample| DiscFrame {
-            center: x.pos,
-            normal: x.tangent,
-            radius: TURN_DISC * x.radius,
-        };
         s.windows(2)
-            .filter(|w| !disc(&w[0]).clears(&disc(&w[1]), 0.02 * w[0].radius.min(w[1].radius)))
+            .filter(|w| !turn_discs_clear(&w[0], w[0].tangent, &w[1], w[1].tangent))
             .count()
     }
 

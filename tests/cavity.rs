@@ -30,35 +30,28 @@ fn six_around_a_void(d: f64) -> Morphology {
 }
 
 /// Winding number of `mesh` at `c`, counted along one ray (+1 for each face
-/// the ray leaves through).
+/// the ray leaves through), with the crate's own ray–triangle test.
 fn winding(mesh: &neuromesh::Mesh, c: [f64; 3]) -> i32 {
     let d = [0.577_2, 0.578_1, 0.577_0];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let mut w = 0;
     for f in &mesh.faces {
         let t = f.map(|v| mesh.position(v as usize));
-        let (e1, e2) = (sub(t[1], t[0]), sub(t[2], t[0]));
-        let p = cross(d, e2);
-        let det = dot(e1, p);
-        if det.abs() < 1e-12 {
-            continue;
+        let (hit, near) = neuromesh::geom::ray_triangle_near(c, d, t);
+        assert!(!near, "the ray passes near a face's border: pick another");
+        if hit.is_some_and(|s| s > 0.0) {
+            let e = |i: usize| [t[i][0] - t[0][0], t[i][1] - t[0][1], t[i][2] - t[0][2]];
+            let (e1, e2) = (e(1), e(2));
+            let n = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            w += if n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0 {
+                1
+            } else {
+                -1
+            };
         }
-        let s = sub(c, t[0]);
-        let u = dot(s, p) / det;
-        let q = cross(s, e1);
-        let v = dot(d, q) / det;
-        if u < 0.0 || v < 0.0 || u + v > 1.0 || dot(e2, q) / det <= 0.0 {
-            continue;
-        }
-        w += if dot(cross(e1, e2), d) > 0.0 { 1 } else { -1 };
     }
     w
 }
