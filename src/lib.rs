@@ -47,6 +47,7 @@ pub mod soma;
 pub mod splice;
 pub mod spline;
 pub mod starts;
+pub mod straight;
 pub mod surface;
 pub mod swc;
 pub mod synthetic;

@@ -90,18 +90,7 @@ impl Track {
             .zip(sweep_factors(&samples, &arc, from, cap))
             .map(|((s, &m), f)| contour::polygon_radius(s.radius, m) * f)
             .collect();
-        let mut originals = vec![0usize; points.len()];
-        for (i, s) in samples.iter().enumerate() {
-            if s.original {
-                originals[s.source as usize] = i;
-            }
-        }
-        // Points merged into their predecessor take its resampled index.
-        for k in 1..originals.len() {
-            if originals[k] < originals[k - 1] {
-                originals[k] = originals[k - 1];
-            }
-        }
+        let originals = originals_of(&samples, points.len());
         Track {
             samples,
             frames,
@@ -109,6 +98,30 @@ impl Track {
             radii,
             edge,
             arc,
+            originals,
+        }
+    }
+
+    /// The track without the contours its straight stretches do not need
+    /// (see [`crate::straight`]): a branch's tube is built from this; the
+    /// straight cones of fillers keep their dense contours.
+    #[must_use]
+    pub fn thinned(self) -> Track {
+        let keep = crate::straight::needed(&self.samples, &self.radii, &self.counts);
+        if keep.iter().all(|&k| k) {
+            return self;
+        }
+        let kept = |k: usize| keep[k];
+        let samples = retain(self.samples, kept);
+        // Original points always keep their contours: map them again.
+        let originals = originals_of(&samples, self.originals.len());
+        Track {
+            samples,
+            frames: retain(self.frames, kept),
+            counts: retain(self.counts, kept),
+            radii: retain(self.radii, kept),
+            edge: self.edge,
+            arc: retain(self.arc, kept),
             originals,
         }
     }
@@ -218,6 +231,32 @@ fn sweep_factors(samples: &[Sample], arc: &[f64], from: usize, cap: f64) -> Vec<
             }
             (length / swept).sqrt().clamp(1.0, cap)
         })
+        .collect()
+}
+
+/// For each of `n` original points, its resampled point in `samples`.
+fn originals_of(samples: &[Sample], n: usize) -> Vec<usize> {
+    let mut originals = vec![0usize; n];
+    for (i, s) in samples.iter().enumerate() {
+        if s.original {
+            originals[s.source as usize] = i;
+        }
+    }
+    // Points merged into their predecessor take its resampled index.
+    for k in 1..originals.len() {
+        if originals[k] < originals[k - 1] {
+            originals[k] = originals[k - 1];
+        }
+    }
+    originals
+}
+
+/// The items of `v` whose index `keep` accepts, in order.
+fn retain<T>(v: Vec<T>, keep: impl Fn(usize) -> bool) -> Vec<T> {
+    v.into_iter()
+        .enumerate()
+        .filter(|(k, _)| keep(*k))
+        .map(|(_, x)| x)
         .collect()
 }
 
