@@ -856,9 +856,10 @@ pub fn tracks(
             .collect();
         let first = usize::from(matches!(b.attachment, Attachment::Soma { .. }));
         let track = Track::widened_from(&points, &radii, params, None, first, sweep_cap);
-        // A trunk keeps every contour: its start filler follows the hull of
-        // the soma's sphere along them (thinned, a spinal motoneuron's trunk
-        // lost 3.5 % of the cell's volume).
+        // A trunk keeps every contour. Thinned, a spinal motoneuron lost
+        // 3.5 % of the union's volume along the cone from its 60 µm soma to
+        // its first trunk point, though the contours along that cone were
+        // all kept (within 3 radii of the start); the cause was not found.
         if first == 0 { track.thinned() } else { track }
     })
 }

@@ -17,8 +17,10 @@
 //! - it lies more than [`END_REACH`] radii from both ends of the track and
 //!   is not among its [`END_POINTS`] first or last points: a child's junction
 //!   is built from its first contours outside its parent, a tip's dome on its
-//!   last (thinning there lost up to 6 % of a fly neuron's volume at forks);
-//! - it has the vertex count of the contours at both ends of the stretch;
+//!   last (thinned there too, a fly neuron came 6.1 % under the union's
+//!   volume instead of 0.2 % over, and a Purkinje cell missed 4.8 % of the
+//!   union near its forks);
+//! - it has the vertex count of the contour the stretch starts from;
 //! - its centre and polygon radius lie within [`TOLERANCE`] of its radius of
 //!   the straight line and the linear radius between the ends;
 //! - the stretch is at most [`LONGEST`] times the smaller end radius long,
@@ -69,7 +71,7 @@ pub fn needed(samples: &[Sample], radii: &[f64], counts: &[u32]) -> Vec<bool> {
         w = w.max(s.radius);
         widest.push(w);
     }
-    let (first, last) = (samples[0].pos, samples[n.saturating_sub(1)].pos);
+    let (first, last) = (samples[0].pos, samples[n - 1].pos);
     let near_ends = |i: usize| {
         first.distance(samples[i].pos) <= END_REACH * widest[i]
             || last.distance(samples[i].pos)
@@ -134,8 +136,9 @@ mod tests {
             .collect();
         let keep = needed(&s, &vec![1.0; s.len()], &vec![12; s.len()]);
         let kept: Vec<usize> = (0..s.len()).filter(|&i| keep[i]).collect();
-        // The ends, the original points, and one contour at most 4 radii on.
-        for must in [0, 1, 20, 39, 40] {
+        // Everything within 3 radii of the ends, the original points, and
+        // one contour at most 4 radii on.
+        for must in (0..=6).chain([20]).chain(34..=40) {
             assert!(keep[must], "{must} in {kept:?}");
         }
         assert!(

@@ -111,19 +111,15 @@ impl Track {
         if keep.iter().all(|&k| k) {
             return self;
         }
-        let kept = |k: usize| keep[k];
-        let samples = retain(self.samples, kept);
+        let mut t = self;
+        keep_only(&mut t.samples, &keep);
+        keep_only(&mut t.frames, &keep);
+        keep_only(&mut t.counts, &keep);
+        keep_only(&mut t.radii, &keep);
+        keep_only(&mut t.arc, &keep);
         // Original points always keep their contours: map them again.
-        let originals = originals_of(&samples, self.originals.len());
-        Track {
-            samples,
-            frames: retain(self.frames, kept),
-            counts: retain(self.counts, kept),
-            radii: retain(self.radii, kept),
-            edge: self.edge,
-            arc: retain(self.arc, kept),
-            originals,
-        }
+        t.originals = originals_of(&t.samples, t.originals.len());
+        t
     }
 
     /// How much point `i`'s contour was widened where the trace jitters.
@@ -251,13 +247,11 @@ fn originals_of(samples: &[Sample], n: usize) -> Vec<usize> {
     originals
 }
 
-/// The items of `v` whose index `keep` accepts, in order.
-fn retain<T>(v: Vec<T>, keep: impl Fn(usize) -> bool) -> Vec<T> {
-    v.into_iter()
-        .enumerate()
-        .filter(|(k, _)| keep(*k))
-        .map(|(_, x)| x)
-        .collect()
+/// Keeps the items of `v` whose flag in `keep` is set (`Vec::retain` visits
+/// them in order, once each).
+fn keep_only<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut flags = keep.iter();
+    v.retain(|_| flags.next().copied().unwrap_or(true));
 }
 
 /// Whether the contour of point `k` may follow the kept contour of point `j`:
@@ -281,6 +275,33 @@ mod tests {
     fn track(points: &[DVec3], r: f64, first: usize) -> Track {
         let radii = vec![r; points.len()];
         Track::widened_from(points, &radii, &Params::DEFAULT, None, first, SWEEP_CAP)
+    }
+
+    #[test]
+    fn a_thinned_track_keeps_its_original_points_and_their_mapping() {
+        // A straight branch of five points 6 radii apart: the resampler puts
+        // several points between each two, of which thinning drops some.
+        let points: Vec<DVec3> = (0..5)
+            .map(|i| DVec3::new(6.0 * f64::from(i), 0.0, 0.0))
+            .collect();
+        let full = track(&points, 1.0, 0);
+        let thin = full.clone().thinned();
+        assert!(thin.samples.len() < full.samples.len());
+        let n = thin.samples.len();
+        for v in [
+            thin.frames.len(),
+            thin.counts.len(),
+            thin.radii.len(),
+            thin.arc.len(),
+        ] {
+            assert_eq!(v, n);
+        }
+        for (k, p) in points.iter().enumerate() {
+            let s = &thin.samples[thin.originals[k]];
+            assert!(s.original && s.source as usize == k && s.pos.distance(*p) < 1e-9);
+        }
+        // Arc lengths are still measured along the whole resampled curve.
+        assert!((thin.arc[n - 1] - full.arc[full.samples.len() - 1]).abs() < 1e-12);
     }
 
     #[test]
