@@ -2,11 +2,10 @@
 //! the patches kept or dropped, the result proven and assembled in place;
 //! clusters that fail are left uncut.
 
-use super::pairs::clusters_of;
 use super::patches::{classify, patches};
+use super::settle::Cut;
 use super::{parts_of, vertices_of};
 use crate::bvh::{Aabb, Bvh};
-use crate::cut::{self, Cuts};
 use crate::geom::P3;
 use crate::hash::FastSet;
 use crate::mesh::Mesh;
@@ -37,18 +36,16 @@ pub(super) fn union(
     mesh: &mut Mesh,
     owner: &[u32],
     pos: Vec<P3>,
-    pairs: &[[u32; 2]],
+    cut: Cut,
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
     whole: bool,
 ) -> Result<Built, (&'static str, Vec<u32>)> {
-    let clusters = clusters_of(pairs);
-    let built: Vec<Result<(Cuts, cut::Pieces), cut::Refusal>> =
-        crate::parallel::map(&clusters, |c| {
-            let mut cuts = Cuts::find(&pos, &mesh.faces, c)?;
-            let pieces = cut::retriangulate(&pos, &mesh.faces, &mut cuts)?;
-            Ok((cuts, pieces))
-        });
+    let Cut {
+        pairs,
+        clusters,
+        built,
+    } = cut;
     let mut ok: Vec<bool> = built.iter().map(Result::is_ok).collect();
     let mut failure = built.iter().find_map(|b| b.as_ref().err().map(|r| r.why));
     // Old faces where a cluster failed: the ones to nudge for another round.

@@ -36,18 +36,22 @@
 //!    exactly on each other's planes (tubes of one radius traced on a grid, a
 //!    flat cell with z = 0): the vertices of the clusters left uncut move by at
 //!    most `NUDGE` of their shortest edge, which puts them in general
-//!    position, and the pass runs again on its own output, up to `ROUNDS`
-//!    times. The report counts the crossing pairs still left after the last.
+//!    position. A cluster whose cut is refused is nudged and cut again at
+//!    once, before the patches (up to three times, in `settle.rs`); clusters
+//!    still refused, and those the proof leaves uncut, are nudged and the
+//!    pass runs again on its own output, up to `ROUNDS` times. The report
+//!    counts the crossing pairs still left after the last.
 
 mod boundary;
 mod pairs;
 mod patches;
+mod settle;
 
-use crate::bvh::Bvh;
 use crate::geom::P3;
 use crate::mesh::Mesh;
 use boundary::union;
-use pairs::{crossing_pairs, crossing_pairs_at, run_boxes};
+use pairs::{crossing_pairs, crossing_pairs_at};
+use settle::{Index, cut_with_nudges};
 
 /// Faces per BVH item: runs of consecutive faces of one part.
 const RUN: usize = 16;
@@ -117,7 +121,7 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
     let mut dirty: Option<Vec<u32>> = None;
     let mut left_parts = Vec::new();
     for round in 0..ROUNDS {
-        let once = resolve_once(mesh, &mut owner, round == 0, dirty.as_deref());
+        let once = resolve_once(mesh, &mut owner, round, dirty.as_deref());
         if round == 0 {
             out.pairs = once.outcome.pairs;
         }
@@ -159,18 +163,19 @@ struct Round {
 fn resolve_once(
     mesh: &mut Mesh,
     owner: &mut Vec<u32>,
-    whole: bool,
+    round: usize,
     dirty: Option<&[u32]>,
 ) -> Round {
+    let whole = round == 0;
     // The pass appends the new vertices: on the corpus a median 1 % (a
     // tenth at the 90th percentile), and growing the array copied it.
     let room = mesh.vertices.len() / 8;
-    let pos: Vec<P3> = crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from));
-    let boxes = run_boxes(&pos, &mesh.faces, owner);
-    let bvh = Bvh::new(boxes.iter().map(|r| r.1).collect());
+    let mut pos: Vec<P3> =
+        crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from));
+    let mut index = Index::new(&pos, &mesh.faces, owner);
     let pairs = match dirty {
-        None => crossing_pairs(&pos, &mesh.faces, owner, &boxes, &bvh),
-        Some(d) => crossing_pairs_at(&pos, &mesh.faces, owner, &boxes, &bvh, d),
+        None => crossing_pairs(&pos, &mesh.faces, owner, &index.runs, &index.bvh),
+        Some(d) => crossing_pairs_at(&pos, &mesh.faces, owner, &index.runs, &index.bvh, d),
     };
     let mut out = Outcome {
         pairs: pairs.len() as u32,
@@ -185,7 +190,10 @@ fn resolve_once(
             left_parts: Vec::new(),
         };
     }
-    match union(mesh, owner, pos, &pairs, &boxes, &bvh, whole) {
+    let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, whole, round);
+    let all: Vec<u32> = cut.pairs.iter().flatten().copied().collect();
+    out.pairs_left = cut.pairs.len() as u32;
+    match union(mesh, owner, pos, cut, &index.runs, &index.bvh, whole) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
@@ -199,7 +207,6 @@ fn resolve_once(
         }
         Err((why, culprits)) => {
             out.failure = Some(why);
-            let all: Vec<u32> = pairs.iter().flatten().copied().collect();
             let left_parts = parts_of(owner, &all);
             let dirty = vertices_of(&mesh.faces, &all);
             let stuck = if whole {
@@ -281,7 +288,9 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
 
 #[cfg(test)]
 mod tests {
+    use super::pairs::run_boxes;
     use super::*;
+    use crate::bvh::Bvh;
     use crate::mesh::tests::cube;
 
     /// Two unit cubes, the second moved by `d`, as one mesh with two parts.
@@ -357,6 +366,41 @@ mod tests {
         // The union is the box 1.5 × 1 × 1, up to the nudges (1e-3 of an edge).
         assert!((m.volume() - 1.5).abs() < 1e-2, "{}", m.volume());
         assert!((m.area() - 8.0).abs() < 2e-2, "{}", m.area());
+    }
+
+    #[test]
+    fn a_refused_cut_is_nudged_and_cut_again_within_the_round() {
+        // Coplanar faces: the plain cut refuses some cluster.
+        let (mut m, mut owner) = two_cubes([0.5, 0.0, 0.0]);
+        let mut pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
+        let mut index = Index::new(&pos, &m.faces, &owner);
+        let pairs = crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh);
+        let plain: Vec<bool> = pairs::clusters_of(&pairs)
+            .iter()
+            .map(|c| {
+                crate::cut::Cuts::find(&pos, &m.faces, c)
+                    .and_then(|mut k| crate::cut::retriangulate(&pos, &m.faces, &mut k))
+                    .is_ok()
+            })
+            .collect();
+        assert!(plain.contains(&false), "{plain:?}");
+        let before = m.vertices.clone();
+        let cut = cut_with_nudges(&mut m, &owner, &mut pos, &mut index, pairs, true, 0);
+        assert!(cut.built.iter().all(Result::is_ok));
+        assert_ne!(m.vertices, before, "the refused cluster's vertices moved");
+        // The positions and the index follow the mesh.
+        let now: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
+        assert_eq!(pos, now);
+        assert_eq!(
+            cut.pairs,
+            crossing_pairs(&now, &m.faces, &owner, &index.runs, &index.bvh)
+        );
+        // So the first round builds the union, with nothing left for a second.
+        let (mut m, _) = two_cubes([0.5, 0.0, 0.0]);
+        let once = resolve_once(&mut m, &mut owner, 0, None);
+        assert_eq!(once.outcome.pairs_left, 0, "{:?}", once.outcome);
+        assert!(once.stuck.is_empty());
+        assert!(m.check().is_valid());
     }
 
     /// A unit cube turned by a generic rotation `r` (rows), placed so that the

@@ -1,0 +1,186 @@
+//! Step 2 with its own nudges: every cluster of crossing pairs cut, and the
+//! clusters whose cut is refused nudged and cut again, within the round.
+//!
+//! A cut is refused where f32 coordinates make a contact degenerate (a
+//! piercing exactly on an edge, a pair with one piercing, one rounding onto a
+//! vertex). The round's patches, proof and assembly used to run with that
+//! cluster left uncut, and the patches holding its faces were kept whole: the
+//! clusters sharing those patches then failed the proof too (537 of the 776
+//! clusters left uncut on the 48 corpus files), and a whole round more, over
+//! the whole mesh, cut them all again after the nudge. Nudging the refused
+//! clusters here, before anything else of the round is built, and cutting
+//! again only the clusters that changed, costs a search around the nudged
+//! vertices and a new BVH instead.
+
+use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
+use super::{nudge, vertices_of};
+use crate::bvh::{Aabb, Bvh};
+use crate::cut::{self, Cuts, Pieces, Refusal};
+use crate::geom::P3;
+use crate::hash::FastMap;
+use crate::mesh::Mesh;
+
+/// How many times a round nudges the clusters whose cut is refused and cuts
+/// again before it goes on with them left uncut (a later round nudges them
+/// again; see [`super::ROUNDS`]).
+const PHASES: usize = 3;
+
+/// A cluster's cut: its cuts and pieces, or why it was refused.
+pub(super) type Built = Result<(Cuts, Pieces), Refusal>;
+
+/// The round's crossing pairs, their clusters and each cluster's cut.
+pub(super) struct Cut {
+    /// Every crossing pair, sorted.
+    pub(super) pairs: Vec<[u32; 2]>,
+    /// The pairs grouped by intersection curve ([`clusters_of`]).
+    pub(super) clusters: Vec<Vec<[u32; 2]>>,
+    /// The cut of each cluster.
+    pub(super) built: Vec<Built>,
+}
+
+/// Runs of faces with their boxes, and their BVH: rebuilt when vertices move.
+pub(super) struct Index {
+    pub(super) runs: Vec<(std::ops::Range<u32>, Aabb)>,
+    pub(super) bvh: Bvh,
+}
+
+impl Index {
+    pub(super) fn new(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Index {
+        let runs = run_boxes(pos, faces, owner);
+        let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+        Index { runs, bvh }
+    }
+}
+
+/// Cuts every cluster of `pairs`; where a cut is refused, nudges the
+/// cluster's vertices (all of them in the first phase of the first round, as
+/// between rounds; then only those of the faces at fault), finds the pairs
+/// at the moved vertices again and cuts the clusters that changed, up to
+/// [`PHASES`] times. `pos` and `index` follow the moved vertices.
+pub(super) fn cut_with_nudges(
+    mesh: &mut Mesh,
+    owner: &[u32],
+    pos: &mut [P3],
+    index: &mut Index,
+    pairs: Vec<[u32; 2]>,
+    whole: bool,
+    round: usize,
+) -> Cut {
+    let clusters = clusters_of(&pairs);
+    let built = crate::parallel::map(&clusters, |c| cut_one(pos, &mesh.faces, c));
+    let mut now = Cut {
+        pairs,
+        clusters,
+        built,
+    };
+    for phase in 0..PHASES {
+        let refused: Vec<usize> = (0..now.clusters.len())
+            .filter(|&c| now.built[c].is_err())
+            .collect();
+        if refused.is_empty() {
+            break;
+        }
+        let at_fault: Vec<u32> = if whole && phase == 0 {
+            refused
+                .iter()
+                .flat_map(|&c| now.clusters[c].iter().flatten().copied())
+                .collect()
+        } else {
+            refused
+                .iter()
+                .filter_map(|&c| now.built[c].as_ref().err())
+                .flat_map(|r| r.faces.iter().copied())
+                .collect()
+        };
+        let moved = vertices_of(&mesh.faces, &at_fault);
+        if moved.is_empty() {
+            break;
+        }
+        // Salts of their own: the nudges between rounds use the round's number.
+        nudge(
+            mesh,
+            &moved,
+            (1 << 16) | ((round as u64) << 8) | phase as u64,
+        );
+        for &v in &moved {
+            pos[v as usize] = mesh.vertices[v as usize].map(f64::from);
+        }
+        *index = Index::new(pos, &mesh.faces, owner);
+        now = cut_again(mesh, owner, pos, index, now, &moved);
+    }
+    now
+}
+
+/// The cut of one cluster.
+fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
+    let mut cuts = Cuts::find(pos, faces, cluster)?;
+    let pieces = cut::retriangulate(pos, faces, &mut cuts)?;
+    Ok((cuts, pieces))
+}
+
+/// The pairs once the vertices `moved` (sorted) have moved: those without a
+/// face at a moved vertex stay, the others are found again; a cluster that
+/// comes out with the same pairs and no face at a moved vertex keeps its
+/// cut, the others are cut anew.
+fn cut_again(
+    mesh: &Mesh,
+    owner: &[u32],
+    pos: &[P3],
+    index: &Index,
+    before: Cut,
+    moved: &[u32],
+) -> Cut {
+    let mut at = vec![false; pos.len()];
+    for &v in moved {
+        at[v as usize] = true;
+    }
+    let touches = |f: u32| mesh.faces[f as usize].iter().any(|&k| at[k as usize]);
+    let mut pairs: Vec<[u32; 2]> = before
+        .pairs
+        .iter()
+        .copied()
+        .filter(|p| !touches(p[0]) && !touches(p[1]))
+        .collect();
+    pairs.extend(crossing_pairs_at(
+        pos,
+        &mesh.faces,
+        owner,
+        &index.runs,
+        &index.bvh,
+        moved,
+    ));
+    pairs.sort_unstable();
+    pairs.dedup();
+    let clusters = clusters_of(&pairs);
+    // A cluster's pairs are sorted: its first pair names it.
+    let by_first: FastMap<[u32; 2], usize> = before
+        .clusters
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (c[0], k))
+        .collect();
+    let mut old: Vec<Option<Built>> = before.built.into_iter().map(Some).collect();
+    let mut kept: Vec<Option<Built>> = clusters
+        .iter()
+        .map(|c| {
+            let &k = by_first.get(&c[0])?;
+            let same = before.clusters[k] == *c
+                && old[k].as_ref().is_some_and(Result::is_ok)
+                && !c.iter().flatten().any(|&f| touches(f));
+            if same { old[k].take() } else { None }
+        })
+        .collect();
+    let todo: Vec<usize> = (0..clusters.len()).filter(|&c| kept[c].is_none()).collect();
+    let fresh = crate::parallel::map(&todo, |&c| cut_one(pos, &mesh.faces, &clusters[c]));
+    for (c, b) in todo.into_iter().zip(fresh) {
+        kept[c] = Some(b);
+    }
+    Cut {
+        pairs,
+        clusters,
+        built: kept
+            .into_iter()
+            .map(|b| b.expect("every cluster is cut or kept"))
+            .collect(),
+    }
+}
