@@ -36,7 +36,7 @@ pub(super) fn union(
     mesh: &mut Mesh,
     owner: &[u32],
     pos: Vec<P3>,
-    cut: Cut,
+    cut: &Cut,
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
     whole: bool,

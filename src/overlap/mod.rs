@@ -191,9 +191,7 @@ fn resolve_once(
         };
     }
     let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, whole, round);
-    let all: Vec<u32> = cut.pairs.iter().flatten().copied().collect();
-    out.pairs_left = cut.pairs.len() as u32;
-    match union(mesh, owner, pos, cut, &index.runs, &index.bvh, whole) {
+    match union(mesh, owner, pos, &cut, &index.runs, &index.bvh, whole) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
@@ -207,6 +205,8 @@ fn resolve_once(
         }
         Err((why, culprits)) => {
             out.failure = Some(why);
+            out.pairs_left = cut.pairs.len() as u32;
+            let all: Vec<u32> = cut.pairs.iter().flatten().copied().collect();
             let left_parts = parts_of(owner, &all);
             let dirty = vertices_of(&mesh.faces, &all);
             let stuck = if whole {
@@ -377,11 +377,7 @@ mod tests {
         let pairs = crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh);
         let plain: Vec<bool> = pairs::clusters_of(&pairs)
             .iter()
-            .map(|c| {
-                crate::cut::Cuts::find(&pos, &m.faces, c)
-                    .and_then(|mut k| crate::cut::retriangulate(&pos, &m.faces, &mut k))
-                    .is_ok()
-            })
+            .map(|c| settle::cut_one(&pos, &m.faces, c).is_ok())
             .collect();
         assert!(plain.contains(&false), "{plain:?}");
         let before = m.vertices.clone();

@@ -113,7 +113,7 @@ pub(super) fn cut_with_nudges(
 }
 
 /// The cut of one cluster.
-fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
+pub(super) fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
     let mut cuts = Cuts::find(pos, faces, cluster)?;
     let pieces = cut::retriangulate(pos, faces, &mut cuts)?;
     Ok((cuts, pieces))
