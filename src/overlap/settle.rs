@@ -11,7 +11,7 @@
 //! 16.6 s on those files, one thread; 0.8 s once the refused clusters are
 //! nudged here). Nudging the refused clusters here, before anything else of
 //! the round is built, and cutting again only the clusters that changed,
-//! costs a search around the nudged vertices and a new BVH instead.
+//! costs a search around the nudged vertices and a refit of the BVH instead.
 
 use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
 use super::{nudge, vertices_of};
@@ -39,7 +39,8 @@ pub(super) struct Cut {
     pub(super) built: Vec<Built>,
 }
 
-/// Runs of faces with their boxes, and their BVH: rebuilt when vertices move.
+/// Runs of faces with their boxes, and their BVH: grown and refitted when
+/// vertices move ([`Index::follow`]).
 pub(super) struct Index {
     pub(super) runs: Vec<(std::ops::Range<u32>, Aabb)>,
     pub(super) bvh: Bvh,
@@ -50,6 +51,29 @@ impl Index {
         let runs = run_boxes(pos, faces, owner);
         let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
         Index { runs, bvh }
+    }
+
+    /// Moves each of `moved` from its place in `pos` to its place in
+    /// `vertices`, updating `pos` and growing every run box that held the
+    /// old place to hold the new one as well: each face at a moved vertex
+    /// lies in such a run. A box may come out larger than its run's faces
+    /// by a nudge's length, which every use of it allows (each only skips
+    /// the faces of boxes that miss a query, and tests the others one by
+    /// one). The refit took 32 ms on the million-sample tree's 4.1 million
+    /// runs where a new index took 2.0 s.
+    fn follow(&mut self, pos: &mut [P3], moved: &[u32], vertices: &[[f32; 3]]) {
+        let mut grown: Vec<(u32, P3)> = Vec::new();
+        for &v in moved {
+            let (old, new) = (pos[v as usize], vertices[v as usize].map(f64::from));
+            let at = Aabb { lo: old, hi: old };
+            self.bvh.for_each_containing(&at, |i| grown.push((i, new)));
+            pos[v as usize] = new;
+        }
+        for (i, p) in grown {
+            self.runs[i as usize].1.add_point(p);
+            self.bvh.grow_item(i, p);
+        }
+        self.bvh.refit();
     }
 }
 
@@ -103,10 +127,7 @@ pub(super) fn cut_with_nudges(
             &moved,
             (1 << 16) | ((round as u64) << 8) | phase as u64,
         );
-        for &v in &moved {
-            pos[v as usize] = mesh.vertices[v as usize].map(f64::from);
-        }
-        *index = Index::new(pos, &mesh.faces, owner);
+        index.follow(pos, &moved, &mesh.vertices);
         now = cut_again(mesh, owner, pos, index, now, &moved);
     }
     now
