@@ -204,17 +204,76 @@ fn parse_number(field: &[u8]) -> Option<f64> {
 }
 
 fn check_unique_ids(samples: &[RawSample], name: &str) -> Result<()> {
-    let mut first_line: HashMap<i64, u32> = HashMap::with_capacity(samples.len());
-    for s in samples {
-        if let Some(prev) = first_line.insert(s.id, s.line) {
-            return Err(Error::swc(
+    IdIndex::new(samples.iter().map(|s| s.id))
+        .map(|_| ())
+        .map_err(|(second, first)| {
+            Error::swc(
                 name,
-                s.line as usize,
-                format!("duplicate id {} (first defined on line {prev})", s.id),
-            ));
+                samples[second].line as usize,
+                format!(
+                    "duplicate id {} (first defined on line {})",
+                    samples[second].id, samples[first].line
+                ),
+            )
+        })
+}
+
+/// Sample ids to their positions in the file. Tracing tools number samples
+/// 1, 2, 3...: ids spanning at most a few times their count go in an array
+/// (on a million-sample tree the SipHash map took a tenth of a second and
+/// the array a few milliseconds); scattered ids in a map, SipHash since the
+/// ids are the file's.
+pub(crate) enum IdIndex {
+    /// `slot[id - min]` is the position of `id`, or `u32::MAX`.
+    Dense {
+        min: i64,
+        slot: Vec<u32>,
+    },
+    Sparse(HashMap<i64, u32>),
+}
+
+impl IdIndex {
+    /// The index of `ids`, or the positions of the first repeated id and of
+    /// its first occurrence.
+    pub(crate) fn new(
+        ids: impl ExactSizeIterator<Item = i64> + Clone,
+    ) -> std::result::Result<IdIndex, (usize, usize)> {
+        let n = ids.len();
+        let (min, max) = ids.clone().fold((i64::MAX, i64::MIN), |(lo, hi), id| {
+            (lo.min(id), hi.max(id))
+        });
+        let span = (max as i128 - min as i128 + 1).max(0) as u128;
+        if n > 0 && span <= 4 * n as u128 + 64 {
+            let mut slot = vec![u32::MAX; span as usize];
+            for (i, id) in ids.enumerate() {
+                let at = &mut slot[(id - min) as usize];
+                if *at != u32::MAX {
+                    return Err((i, *at as usize));
+                }
+                *at = i as u32;
+            }
+            return Ok(IdIndex::Dense { min, slot });
+        }
+        let mut map = HashMap::with_capacity(n);
+        for (i, id) in ids.enumerate() {
+            if let Some(&first) = map.get(&id) {
+                return Err((i, first as usize));
+            }
+            map.insert(id, i as u32);
+        }
+        Ok(IdIndex::Sparse(map))
+    }
+
+    /// The position of `id`, if a sample has it.
+    pub(crate) fn get(&self, id: i64) -> Option<u32> {
+        match self {
+            IdIndex::Dense { min, slot } => {
+                let k = usize::try_from(id.checked_sub(*min)?).ok()?;
+                slot.get(k).copied().filter(|&i| i != u32::MAX)
+            }
+            IdIndex::Sparse(map) => map.get(&id).copied(),
         }
     }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -277,6 +336,37 @@ mod tests {
     fn fractional_id() {
         let (_, reason) = err_line("1.5 1 0 0 0 1 -1\n");
         assert!(reason.contains("id must be an integer"), "{reason}");
+    }
+
+    #[test]
+    fn the_id_index_finds_every_id_dense_or_scattered() {
+        // Numbered from 1 with gaps (an array), and scattered (a map).
+        for ids in [
+            vec![1i64, 2, 3, 7, 5, -1],
+            vec![10, -1_000_000_000_000, 3, 1 << 40],
+        ] {
+            let index = IdIndex::new(ids.iter().copied()).expect("unique");
+            assert_eq!(
+                matches!(index, IdIndex::Dense { .. }),
+                ids[1] == 2,
+                "which kind"
+            );
+            for (i, &id) in ids.iter().enumerate() {
+                assert_eq!(index.get(id), Some(i as u32), "id {id}");
+            }
+            for absent in [0i64, 4, 6, 8, i64::MIN, i64::MAX, 11] {
+                assert_eq!(index.get(absent), None, "id {absent}");
+            }
+        }
+        // A repeat names itself and the first occurrence, either way.
+        assert_eq!(
+            IdIndex::new([1i64, 2, 3, 2].into_iter()).err(),
+            Some((3, 1))
+        );
+        assert_eq!(
+            IdIndex::new([9i64, 1 << 50, 9].into_iter()).err(),
+            Some((2, 0))
+        );
     }
 
     #[test]

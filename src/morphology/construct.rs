@@ -15,11 +15,9 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         comment_lines,
     } = file;
     let n = samples.len();
-    let index: HashMap<i64, u32> = samples
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s.id, i as u32))
-        .collect();
+    // The reader refused repeated ids.
+    let index = crate::swc::IdIndex::new(samples.iter().map(|s| s.id))
+        .map_err(|(second, _)| Error::swc(&path, samples[second].line as usize, "duplicate id"))?;
     let mut parent = vec![NO_PARENT; n];
     for (i, s) in samples.iter().enumerate() {
         if s.parent >= 0 {
@@ -30,7 +28,7 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
                     format!("sample {} is its own parent", s.id),
                 ));
             }
-            parent[i] = *index.get(&s.parent).ok_or_else(|| {
+            parent[i] = index.get(s.parent).ok_or_else(|| {
                 Error::swc(
                     &path,
                     s.line as usize,
