@@ -17,6 +17,7 @@ Each MODE writes /tmp/stress/MODE/NAME.swc for every NAME.swc of the folder:
   jitter  every neurite sample moved by up to 0.6 of its radius per axis
   int     coordinates rounded to integers, radii to halves (at least 0.5):
           a tracing on a 1-unit voxel grid
+  flat    z set to 0 (a tracing drawn in 2D: every branch in one plane)
   dense   a midpoint inserted in every neurite segment (parents follow
           their children in the file, as in unsorted files)
 
@@ -30,7 +31,7 @@ import os
 import random
 import sys
 
-MODES = ("rot", "scale", "small", "shift", "farnm", "fat", "thin", "jitter", "int", "dense")
+MODES = ("rot", "scale", "small", "shift", "farnm", "fat", "thin", "jitter", "int", "flat", "dense")
 
 
 def rotation(rng):
@@ -97,6 +98,9 @@ def alter(rows, mode, rng):
             for k in (2, 3, 4):
                 r[k] = float(round(r[k]))
             r[5] = max(0.5, round(r[5] * 2) / 2)
+    if mode == "flat":
+        for r in rows:
+            r[4] = 0.0
     if mode == "dense":
         by_id = {r[0]: r for r in rows}
         next_id = max(by_id, default=0) + 1

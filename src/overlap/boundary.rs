@@ -4,7 +4,7 @@
 
 use super::patches::{classify, patches};
 use super::settle::Cut;
-use super::{parts_of, vertices_of};
+use super::{at_fault_or_all, parts_of, vertices_of};
 use crate::bvh::{Aabb, Bvh};
 use crate::geom::P3;
 use crate::hash::FastSet;
@@ -39,7 +39,6 @@ pub(super) fn union(
     cut: &Cut,
     runs: &[(std::ops::Range<u32>, Aabb)],
     bvh: &Bvh,
-    whole: bool,
 ) -> Result<Built, (&'static str, Vec<u32>)> {
     let Cut {
         pairs,
@@ -224,19 +223,17 @@ pub(super) fn union(
                     .filter(|&c| !ok[c])
                     .flat_map(|c| clusters[c].iter().flatten().copied())
                     .collect();
-                let to_nudge = if whole { &uncut } else { &culprits };
-                let mut stuck: Vec<u32> = vertices_of(&faces[..first_piece], to_nudge)
-                    .into_iter()
-                    .map(|k| remap[k as usize])
-                    .filter(|&k| k != u32::MAX)
-                    .collect();
-                stuck.sort_unstable();
-                let mut dirty: Vec<u32> = vertices_of(&faces[..first_piece], &uncut)
-                    .into_iter()
-                    .map(|k| remap[k as usize])
-                    .filter(|&k| k != u32::MAX)
-                    .collect();
-                dirty.sort_unstable();
+                let renumbered = |which: &[u32]| {
+                    let mut v: Vec<u32> = vertices_of(&faces[..first_piece], which)
+                        .into_iter()
+                        .map(|k| remap[k as usize])
+                        .filter(|&k| k != u32::MAX)
+                        .collect();
+                    v.sort_unstable();
+                    v
+                };
+                let dirty = renumbered(&uncut);
+                let stuck = at_fault_or_all(renumbered(&culprits), &dirty);
                 let out_owner = assemble(
                     mesh,
                     faces,

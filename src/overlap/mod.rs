@@ -34,9 +34,9 @@
 //!    it was while the others are cut.
 //! 5. **Nudges.** A contact is degenerate because f32 coordinates put points
 //!    exactly on each other's planes (tubes of one radius traced on a grid, a
-//!    flat cell with z = 0): the vertices of the clusters left uncut move by at
-//!    most `NUDGE` of their shortest edge, which puts them in general
-//!    position. A cluster whose cut is refused is nudged and cut again at
+//!    flat cell with z = 0): the vertices of the faces at fault (the cut and
+//!    the proof name them all along a cluster) move by at most `NUDGE` of
+//!    their shortest edge, which puts them in general position. A cluster whose cut is refused is nudged and cut again at
 //!    once, before the patches (up to three times, in `settle.rs`); clusters
 //!    still refused, and those the proof leaves uncut, are nudged and the
 //!    pass runs again on its own output, up to `ROUNDS` times. The report
@@ -72,11 +72,12 @@ pub struct Outcome {
 }
 
 /// Rounds of the pass: after a round that leaves crossings uncut (their
-/// contact is degenerate or its pieces round badly), their vertices are nudged
-/// and the pass runs again on its own output. The first nudge moves every
-/// vertex of the clusters left uncut (a flat or grid-aligned cell has
-/// degenerate contacts all along a curve); later ones only those of the faces
-/// at fault, so a large cluster is not shaken into new trouble elsewhere.
+/// contact is degenerate or its pieces round badly), the vertices of the
+/// faces at fault are nudged and the pass runs again on its own output. The
+/// cut and the proof name every face at fault in a cluster, not just the
+/// first, so a flat or grid-aligned cell (degenerate contacts all along a
+/// curve) is moved in one go, and a large cluster is not shaken into new
+/// trouble elsewhere.
 const ROUNDS: usize = 6;
 
 /// A nudge moves a vertex by up to this fraction of its shortest edge: far
@@ -148,8 +149,7 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
 /// What one round did and left to the next.
 struct Round {
     outcome: Outcome,
-    /// The vertices to nudge: of every face of the clusters left uncut
-    /// (first round) or only of the faces at fault.
+    /// The vertices to nudge: of the faces at fault ([`at_fault_or_all`]).
     stuck: Vec<u32>,
     /// The vertices of faces that may still cross something: those of the
     /// clusters left uncut.
@@ -166,7 +166,6 @@ fn resolve_once(
     round: usize,
     dirty: Option<&[u32]>,
 ) -> Round {
-    let whole = round == 0;
     // The pass appends the new vertices: on the corpus a median 1 % (a
     // tenth at the 90th percentile), and growing the array copied it.
     let room = mesh.vertices.len() / 8;
@@ -190,8 +189,8 @@ fn resolve_once(
             left_parts: Vec::new(),
         };
     }
-    let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, whole, round);
-    match union(mesh, owner, pos, &cut, &index.runs, &index.bvh, whole) {
+    let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, round);
+    match union(mesh, owner, pos, &cut, &index.runs, &index.bvh) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
@@ -209,11 +208,7 @@ fn resolve_once(
             let all: Vec<u32> = cut.pairs.iter().flatten().copied().collect();
             let left_parts = parts_of(owner, &all);
             let dirty = vertices_of(&mesh.faces, &all);
-            let stuck = if whole {
-                dirty.clone()
-            } else {
-                vertices_of(&mesh.faces, &culprits)
-            };
+            let stuck = at_fault_or_all(vertices_of(&mesh.faces, &culprits), &dirty);
             Round {
                 outcome: out,
                 stuck,
@@ -221,6 +216,17 @@ fn resolve_once(
                 left_parts,
             }
         }
+    }
+}
+
+/// The vertices to nudge: those of the faces at fault, or where none was
+/// named, every vertex of the clusters left uncut (`all`), so that a round
+/// leaving crossings always moves something for the next.
+fn at_fault_or_all(at_fault: Vec<u32>, all: &[u32]) -> Vec<u32> {
+    if at_fault.is_empty() {
+        all.to_vec()
+    } else {
+        at_fault
     }
 }
 
@@ -381,7 +387,7 @@ mod tests {
             .collect();
         assert!(plain.contains(&false), "{plain:?}");
         let before = m.vertices.clone();
-        let cut = cut_with_nudges(&mut m, &owner, &mut pos, &mut index, pairs, true, 0);
+        let cut = cut_with_nudges(&mut m, &owner, &mut pos, &mut index, pairs, 0);
         assert!(cut.built.iter().all(Result::is_ok));
         assert_ne!(m.vertices, before, "the refused cluster's vertices moved");
         // The positions and the index follow the mesh.
