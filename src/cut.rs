@@ -369,7 +369,12 @@ fn cut_face(
     out: &mut Pieces,
 ) -> Result<(), Refusal> {
     let face = faces[f as usize];
-    let cut = cuts.faces[&f].clone();
+    // Each face is cut once: its record is taken, not copied.
+    let cut = cuts
+        .faces
+        .get_mut(&f)
+        .map(std::mem::take)
+        .unwrap_or_default();
     // The boundary: corners and the new vertices on each edge, in order.
     let mut boundary: Vec<u32> = Vec::with_capacity(3 + cut.segments.len());
     for e in 0..3 {
