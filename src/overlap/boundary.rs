@@ -25,6 +25,9 @@ pub(super) struct Built {
     pub(super) dirty: Vec<u32>,
     /// The parts of the faces of clusters left uncut.
     pub(super) left_parts: Vec<u32>,
+    /// The new mesh's vertices in f64 (exactly its f32 ones), for the next
+    /// round.
+    pub(super) pos: Vec<P3>,
 }
 
 /// The union's boundary where it could be built.
@@ -238,7 +241,7 @@ pub(super) fn union(
                     mesh,
                     faces,
                     kept,
-                    &all_pos,
+                    &mut all_pos,
                     &remap,
                     |f| owner[origin_of(f) as usize],
                     |k| {
@@ -260,6 +263,7 @@ pub(super) fn union(
                     stuck,
                     dirty,
                     left_parts: parts_of(owner, &uncut),
+                    pos: all_pos,
                 });
             }
             Err((why, at_fault)) => {
@@ -370,11 +374,13 @@ pub(super) fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) 
 /// (`owner_of(f)` for face `f`); `label_from(k)` names the old vertex whose
 /// label vertex `k` takes. In place, because on a large cell fresh arrays of
 /// the mesh's size cost more in page faults than the copying itself.
+/// `all_pos` (the old vertices, then the new ones, all f32-exact) is
+/// compacted the same way, so that it holds the new mesh's vertices in f64.
 pub(super) fn assemble(
     mesh: &mut Mesh,
     mut faces: Vec<[u32; 3]>,
     kept: &[bool],
-    all_pos: &[P3],
+    all_pos: &mut Vec<P3>,
     remap: &[u32],
     owner_of: impl Fn(usize) -> u32,
     label_from: impl Fn(u32) -> u32,
@@ -410,6 +416,22 @@ pub(super) fn assemble(
         }
     }
     mesh.vertex_sample.extend_from_slice(&new_labels);
+    // Used vertices move down (never up), as in `mesh.vertices`.
+    let mut w = 0;
+    for k in 0..all_pos.len() {
+        if remap[k] != u32::MAX {
+            all_pos[w] = all_pos[k];
+            w += 1;
+        }
+    }
+    all_pos.truncate(w);
+    debug_assert!(
+        all_pos
+            .iter()
+            .zip(&mesh.vertices)
+            .all(|(p, v)| *p == v.map(f64::from)),
+        "the positions follow the vertices"
+    );
     // Kept faces move down (never up), so the list compacts in place.
     let mut out_owner = Vec::with_capacity(faces.len());
     let mut w = 0;

@@ -121,8 +121,10 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
     // the clusters (a piece crossing a face left uncut is found from that face).
     let mut dirty: Option<Vec<u32>> = None;
     let mut left_parts = Vec::new();
+    // The vertices in f64, carried from a round to the next.
+    let mut pos: Option<Vec<P3>> = None;
     for round in 0..ROUNDS {
-        let once = resolve_once(mesh, &mut owner, round, dirty.as_deref());
+        let mut once = resolve_once(mesh, &mut owner, round, dirty.as_deref(), pos.take());
         if round == 0 {
             out.pairs = once.outcome.pairs;
         }
@@ -133,6 +135,12 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
             break;
         }
         nudge(mesh, &once.stuck, round as u64);
+        if let Some(p) = &mut once.pos {
+            for &v in &once.stuck {
+                p[v as usize] = mesh.vertices[v as usize].map(f64::from);
+            }
+        }
+        pos = once.pos;
         let mut next = once.dirty;
         next.extend_from_slice(&once.stuck);
         next.sort_unstable();
@@ -156,21 +164,32 @@ struct Round {
     dirty: Vec<u32>,
     /// The parts of the faces of the clusters left uncut ([`Resolved`]).
     left_parts: Vec<u32>,
+    /// The mesh's vertices in f64, where the round assembled a new mesh.
+    pos: Option<Vec<P3>>,
 }
 
 /// One round; with `dirty` (vertices), only faces at one of them are looked
-/// at for crossings.
+/// at for crossings. `pos`, if given, is the mesh's vertices in f64 (the
+/// round before assembled it): on the million-sample tree a fresh copy was
+/// 887 MB of new pages.
 fn resolve_once(
     mesh: &mut Mesh,
     owner: &mut Vec<u32>,
     round: usize,
     dirty: Option<&[u32]>,
+    pos: Option<Vec<P3>>,
 ) -> Round {
     // The pass appends the new vertices: on the corpus a median 1 % (a
     // tenth at the 90th percentile), and growing the array copied it.
     let room = mesh.vertices.len() / 8;
-    let mut pos: Vec<P3> =
-        crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from));
+    let mut pos: Vec<P3> = match pos {
+        Some(mut p) => {
+            debug_assert_eq!(p.len(), mesh.vertices.len());
+            p.reserve(room);
+            p
+        }
+        None => crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from)),
+    };
     let mut index = Index::new(&pos, &mesh.faces, owner);
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &index.runs, &index.bvh),
@@ -187,6 +206,7 @@ fn resolve_once(
             stuck: Vec::new(),
             dirty: Vec::new(),
             left_parts: Vec::new(),
+            pos: None,
         };
     }
     let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, round);
@@ -200,6 +220,7 @@ fn resolve_once(
                 stuck: built.stuck,
                 dirty: built.dirty,
                 left_parts: built.left_parts,
+                pos: Some(built.pos),
             }
         }
         Err((why, culprits)) => {
@@ -214,6 +235,7 @@ fn resolve_once(
                 stuck,
                 dirty,
                 left_parts,
+                pos: None,
             }
         }
     }
@@ -399,7 +421,7 @@ mod tests {
         );
         // So the first round builds the union, with nothing left for a second.
         let (mut m, _) = two_cubes([0.5, 0.0, 0.0]);
-        let once = resolve_once(&mut m, &mut owner, 0, None);
+        let once = resolve_once(&mut m, &mut owner, 0, None, None);
         assert_eq!(once.outcome.pairs_left, 0, "{:?}", once.outcome);
         assert!(once.stuck.is_empty());
         assert!(m.check().is_valid());
