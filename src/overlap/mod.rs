@@ -179,16 +179,19 @@ fn resolve_once(
     dirty: Option<&[u32]>,
     pos: Option<Vec<P3>>,
 ) -> Round {
-    // The pass appends the new vertices: on the corpus a median 1 % (a
-    // tenth at the 90th percentile), and growing the array copied it.
-    let room = mesh.vertices.len() / 8;
     let mut pos: Vec<P3> = match pos {
-        Some(mut p) => {
+        // Later rounds append few vertices: the union reserves them.
+        Some(p) => {
             debug_assert_eq!(p.len(), mesh.vertices.len());
-            p.reserve(room);
             p
         }
-        None => crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from)),
+        // The first round appends the new vertices: on the corpus a median
+        // 1 % (a tenth at the 90th percentile), and growing the array
+        // copied it.
+        None => {
+            let room = mesh.vertices.len() / 8;
+            crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from))
+        }
     };
     let mut index = Index::new(&pos, &mesh.faces, owner);
     let pairs = match dirty {
