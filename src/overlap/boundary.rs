@@ -4,7 +4,7 @@
 
 use super::patches::{classify, patches};
 use super::settle::Cut;
-use super::{at_fault_or_all, parts_of, vertices_of};
+use super::{parts_of, vertices_of};
 use crate::bvh::{Aabb, Bvh};
 use crate::geom::P3;
 use crate::hash::FastSet;
@@ -236,7 +236,11 @@ pub(super) fn union(
                     v
                 };
                 let dirty = renumbered(&uncut);
-                let stuck = at_fault_or_all(renumbered(&culprits), &dirty);
+                let stuck = renumbered(&culprits);
+                debug_assert!(
+                    left == 0 || !stuck.is_empty(),
+                    "the clusters left uncut have faces at fault"
+                );
                 let out_owner = assemble(
                     mesh,
                     faces,

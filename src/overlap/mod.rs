@@ -36,11 +36,12 @@
 //!    exactly on each other's planes (tubes of one radius traced on a grid, a
 //!    flat cell with z = 0): the vertices of the faces at fault (the cut and
 //!    the proof name them all along a cluster) move by at most `NUDGE` of
-//!    their shortest edge, which puts them in general position. A cluster whose cut is refused is nudged and cut again at
-//!    once, before the patches (up to three times, in `settle.rs`); clusters
-//!    still refused, and those the proof leaves uncut, are nudged and the
-//!    pass runs again on its own output, up to `ROUNDS` times. The report
-//!    counts the crossing pairs still left after the last.
+//!    their shortest edge, which puts them in general position. A cluster
+//!    whose cut is refused is nudged and cut again at once, before the
+//!    patches (up to three times, in `settle.rs`); clusters still refused,
+//!    and those the proof leaves uncut, are nudged and the pass runs again
+//!    on its own output, up to `ROUNDS` times. The report counts the
+//!    crossing pairs still left after the last.
 
 mod boundary;
 mod pairs;
@@ -157,7 +158,8 @@ pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
 /// What one round did and left to the next.
 struct Round {
     outcome: Outcome,
-    /// The vertices to nudge: of the faces at fault ([`at_fault_or_all`]).
+    /// The vertices to nudge: of the faces at fault (every refusal and
+    /// every failed proof names them).
     stuck: Vec<u32>,
     /// The vertices of faces that may still cross something: those of the
     /// clusters left uncut.
@@ -232,7 +234,8 @@ fn resolve_once(
             let all: Vec<u32> = cut.pairs.iter().flatten().copied().collect();
             let left_parts = parts_of(owner, &all);
             let dirty = vertices_of(&mesh.faces, &all);
-            let stuck = at_fault_or_all(vertices_of(&mesh.faces, &culprits), &dirty);
+            let stuck = vertices_of(&mesh.faces, &culprits);
+            debug_assert!(!stuck.is_empty(), "a refusal names its faces");
             Round {
                 outcome: out,
                 stuck,
@@ -241,17 +244,6 @@ fn resolve_once(
                 pos: None,
             }
         }
-    }
-}
-
-/// The vertices to nudge: those of the faces at fault, or where none was
-/// named, every vertex of the clusters left uncut (`all`), so that a round
-/// leaving crossings always moves something for the next.
-fn at_fault_or_all(at_fault: Vec<u32>, all: &[u32]) -> Vec<u32> {
-    if at_fault.is_empty() {
-        all.to_vec()
-    } else {
-        at_fault
     }
 }
 
