@@ -25,6 +25,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::geom::{P3, orient2d_sign, orient3d, orient3d_sign};
 use crate::hash::{FastMap, FastSet};
+use crate::recut::Memo;
 
 /// New vertices closer than this many f32 steps (of their coordinates'
 /// magnitude) at an edge-edge crossing are one vertex.
@@ -325,7 +326,7 @@ fn sign(v: [u32; 4], pos: &[P3]) -> i8 {
 }
 
 /// The pieces of the cut faces.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, PartialEq, Eq)]
 pub struct Pieces {
     /// Triangles, oriented as the faces they come from.
     pub faces: Vec<[u32; 3]>,
@@ -347,15 +348,56 @@ pub struct Pieces {
 /// would give); on a cell with a few thousand cut faces that takes a tenth of
 /// the instructions of spade's bulk load, which remains for the rest.
 pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<Pieces, Refusal> {
+    retriangulate_with(pos, faces, cuts, None, None)
+}
+
+/// [`retriangulate`], taking the pieces of a face from `reuse` where its
+/// inputs are those it remembers, and remembering in `record` what each
+/// face gave ([`crate::recut`]). The pieces are those [`retriangulate`]
+/// gives.
+pub fn retriangulate_with(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    cuts: &mut Cuts,
+    reuse: Option<&Memo>,
+    record: Option<&mut Memo>,
+) -> Result<Pieces, Refusal> {
     let mut order: Vec<u32> = cuts.faces.keys().copied().collect();
     order.sort_unstable();
     let mut triples: FastMap<[u32; 3], u32> = FastMap::default();
     let mut out = Pieces::default();
     let mut refused = Refused::default();
+    let mut memo = Remembering {
+        reuse,
+        record,
+        inputs: Vec::new(),
+    };
     for f in order {
-        refused.note(cut_face(pos, faces, cuts, f, &mut triples, &mut out));
+        refused.note(cut_face(
+            pos,
+            faces,
+            cuts,
+            f,
+            &mut triples,
+            &mut out,
+            &mut memo,
+        ));
     }
     refused.or(out)
+}
+
+/// What [`cut_face`] takes from and gives to memos, and its scratch space.
+struct Remembering<'a> {
+    reuse: Option<&'a Memo>,
+    record: Option<&'a mut Memo>,
+    /// The inputs of the face being cut, as bits.
+    inputs: Vec<u64>,
+}
+
+impl Remembering<'_> {
+    fn active(&self) -> bool {
+        self.reuse.is_some() || self.record.is_some()
+    }
 }
 
 /// Cut face `f` re-triangulated along its cut segments, its pieces appended
@@ -367,6 +409,7 @@ fn cut_face(
     f: u32,
     triples: &mut FastMap<[u32; 3], u32>,
     out: &mut Pieces,
+    memo: &mut Remembering,
 ) -> Result<(), Refusal> {
     let face = faces[f as usize];
     // Each face is cut once: its record is taken, not copied.
@@ -490,6 +533,39 @@ fn cut_face(
         }
     }
     let before = out.faces.len();
+    // The pieces are a function of the face's corners, the points in `ids`
+    // (triple points made) and the segments between them: a face cut from
+    // the same as the last time takes its pieces from then.
+    let remember = memo.active();
+    if remember {
+        let inputs = &mut memo.inputs;
+        inputs.clear();
+        inputs.extend([nb as u64, ids.len() as u64, segs.len() as u64]);
+        inputs.extend(t.iter().flatten().map(|x| x.to_bits()));
+        inputs.extend(pts2.iter().flatten().map(|x| x.to_bits()));
+        inputs.extend(
+            edges[nb..]
+                .iter()
+                .map(|e| ((e[0] as u64) << 32) | e[1] as u64),
+        );
+        if let Some(tris) = memo.reuse.and_then(|m| m.get(f, &memo.inputs)) {
+            out.faces
+                .extend(tris.iter().map(|t| t.map(|i| ids[i as usize])));
+            out.origin.extend(std::iter::repeat_n(f, tris.len()));
+            // Remembered again, for a cut after this one.
+            if let Some(record) = memo.record.as_deref_mut() {
+                record.put(f, &memo.inputs, tris.iter().copied());
+            }
+            return Ok(());
+        }
+    }
+    // Remembers the pieces made since `before` (as local numbers).
+    let keep = |memo: &mut Remembering, out: &Pieces| {
+        if let (true, Some(record)) = (remember, memo.record.as_deref_mut()) {
+            let pieces = out.faces[before..].iter();
+            record.put(f, &memo.inputs, pieces.map(|t| t.map(|k| local[&k] as u32)));
+        }
+    };
     // One or more curves straight across the face, the common case: split
     // and clip ears (in the plane mirrored where the face looks down, so
     // that its boundary runs counter-clockwise).
@@ -515,6 +591,7 @@ fn cut_face(
             if out.faces.len() - before != nb + 2 * inner.len() - 2 {
                 return Err(at_fault("a cut face's pieces do not cover it"));
             }
+            keep(memo, out);
             return Ok(());
         }
     }
@@ -542,6 +619,7 @@ fn cut_face(
     if out.faces.len() - before != nb + 2 * inner.len() - 2 {
         return Err(at_fault("a cut face's pieces do not cover it"));
     }
+    keep(memo, out);
     Ok(())
 }
 

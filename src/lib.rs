@@ -43,6 +43,7 @@ pub mod piece;
 pub mod planar;
 pub mod plausibility;
 mod proof;
+pub mod recut;
 pub mod soma;
 pub mod splice;
 pub mod spline;

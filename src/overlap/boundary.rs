@@ -47,6 +47,7 @@ pub(super) fn union(
         pairs,
         clusters,
         built,
+        ..
     } = cut;
     let mut ok: Vec<bool> = built.iter().map(Result::is_ok).collect();
     let mut failure = built.iter().find_map(|b| b.as_ref().err().map(|r| r.why));

@@ -397,6 +397,43 @@ mod tests {
     }
 
     #[test]
+    fn remembered_pieces_are_those_of_a_fresh_cut() {
+        use crate::cut::{Cuts, retriangulate, retriangulate_with};
+        use crate::recut::Memo;
+        let (mut m, owner) = two_cubes([0.3, 0.4, 0.45]);
+        let positions =
+            |m: &Mesh| -> Vec<P3> { m.vertices.iter().map(|v| v.map(f64::from)).collect() };
+        let pairs_of = |pos: &[P3], m: &Mesh| {
+            let runs = run_boxes(pos, &m.faces, &owner);
+            let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+            crossing_pairs(pos, &m.faces, &owner, &runs, &bvh)
+        };
+        let fresh = |pos: &[P3], m: &Mesh, pairs: &[[u32; 2]]| {
+            let mut cuts = Cuts::find(pos, &m.faces, pairs).expect("cut");
+            retriangulate(pos, &m.faces, &mut cuts).expect("pieces")
+        };
+        let pos = positions(&m);
+        let pairs = pairs_of(&pos, &m);
+        let mut memo = Memo::default();
+        let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
+        let first = retriangulate_with(&pos, &m.faces, &mut cuts, None, Some(&mut memo));
+        assert_eq!(first.expect("pieces"), fresh(&pos, &m, &pairs));
+        assert!(!memo.is_empty());
+        // Unchanged: every face takes its pieces from the memo.
+        let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
+        let again = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&memo), None);
+        assert_eq!(again.expect("pieces"), fresh(&pos, &m, &pairs));
+        // A corner of the second cube inside the first moves: the faces at
+        // it are cut anew, the others reused, all as a fresh cut.
+        m.vertices[8] = [0.31, 0.42, 0.47];
+        let pos = positions(&m);
+        let pairs = pairs_of(&pos, &m);
+        let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
+        let moved = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&memo), None);
+        assert_eq!(moved.expect("pieces"), fresh(&pos, &m, &pairs));
+    }
+
+    #[test]
     fn a_refused_cut_is_nudged_and_cut_again_within_the_round() {
         // Coplanar faces: the plain cut refuses some cluster.
         let (mut m, mut owner) = two_cubes([0.5, 0.0, 0.0]);

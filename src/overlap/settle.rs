@@ -29,6 +29,7 @@ use crate::cut::{self, Cuts, Pieces, Refusal};
 use crate::geom::P3;
 use crate::hash::FastMap;
 use crate::mesh::Mesh;
+use crate::recut::Memo;
 
 /// How many times a round nudges the clusters whose cut is refused and cuts
 /// again before it goes on with them left uncut (a later round nudges them
@@ -46,7 +47,15 @@ pub(super) struct Cut {
     pub(super) clusters: Vec<Vec<[u32; 2]>>,
     /// The cut of each cluster.
     pub(super) built: Vec<Built>,
+    /// The pieces of the faces of large refused clusters, for their next
+    /// cut ([`crate::recut`]).
+    memo: Memo,
 }
+
+/// Clusters of at least this many pairs remember their faces' pieces in
+/// case their cut is refused: re-cutting a small one costs little, and
+/// remembering costs a little on every cut.
+const MEMO_PAIRS: usize = 2048;
 
 /// Runs of faces with their boxes, and their BVH: grown and refitted when
 /// vertices move ([`Index::follow`]).
@@ -99,11 +108,12 @@ pub(super) fn cut_with_nudges(
     round: usize,
 ) -> Cut {
     let clusters = clusters_of(&pairs);
-    let built = crate::parallel::map(&clusters, |c| cut_one(pos, &mesh.faces, c));
+    let (built, memo) = cut_all(pos, &mesh.faces, &clusters, &Memo::default());
     let mut now = Cut {
         pairs,
         clusters,
         built,
+        memo,
     };
     for phase in 0..PHASES {
         let refused: Vec<usize> = (0..now.clusters.len())
@@ -134,10 +144,52 @@ pub(super) fn cut_with_nudges(
 }
 
 /// The cut of one cluster.
+#[cfg(test)]
 pub(super) fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
-    let mut cuts = Cuts::find(pos, faces, cluster)?;
-    let pieces = cut::retriangulate(pos, faces, &mut cuts)?;
-    Ok((cuts, pieces))
+    cut_remembering(pos, faces, cluster, &Memo::default()).0
+}
+
+/// The cut of one cluster, taking the pieces of its faces from `reuse`
+/// where they are the same, and what a large cluster's faces gave if its
+/// cut is refused.
+fn cut_remembering(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    cluster: &[[u32; 2]],
+    reuse: &Memo,
+) -> (Built, Option<Memo>) {
+    let mut cuts = match Cuts::find(pos, faces, cluster) {
+        Ok(c) => c,
+        Err(r) => return (Err(r), None),
+    };
+    let mut record = (cluster.len() >= MEMO_PAIRS).then(Memo::default);
+    let reuse = (!reuse.is_empty()).then_some(reuse);
+    match cut::retriangulate_with(pos, faces, &mut cuts, reuse, record.as_mut()) {
+        Ok(pieces) => (Ok((cuts, pieces)), None),
+        Err(r) => (Err(r), record),
+    }
+}
+
+/// The cuts of `clusters` ([`cut_remembering`]), and what the refused ones
+/// remember, together.
+fn cut_all(
+    pos: &[P3],
+    faces: &[[u32; 3]],
+    clusters: &[impl AsRef<[[u32; 2]]> + Sync],
+    reuse: &Memo,
+) -> (Vec<Built>, Memo) {
+    let done = crate::parallel::map(clusters, |c| cut_remembering(pos, faces, c.as_ref(), reuse));
+    let mut memo = Memo::default();
+    let built = done
+        .into_iter()
+        .map(|(b, m)| {
+            if let Some(m) = m {
+                memo.absorb(m);
+            }
+            b
+        })
+        .collect();
+    (built, memo)
 }
 
 /// The pairs once the vertices `moved` (sorted) have moved: those without a
@@ -193,7 +245,8 @@ fn cut_again(
         })
         .collect();
     let todo: Vec<usize> = (0..clusters.len()).filter(|&c| kept[c].is_none()).collect();
-    let fresh = crate::parallel::map(&todo, |&c| cut_one(pos, &mesh.faces, &clusters[c]));
+    let todo_pairs: Vec<&[[u32; 2]]> = todo.iter().map(|&c| &clusters[c][..]).collect();
+    let (fresh, memo) = cut_all(pos, &mesh.faces, &todo_pairs, &before.memo);
     for (c, b) in todo.into_iter().zip(fresh) {
         kept[c] = Some(b);
     }
@@ -204,5 +257,6 @@ fn cut_again(
             .into_iter()
             .map(|b| b.expect("every cluster is cut or kept"))
             .collect(),
+        memo,
     }
 }
