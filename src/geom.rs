@@ -143,6 +143,13 @@ fn dominant_axis(n: P3) -> usize {
 
 /// Whether the closed 2D segments ab and cd share a point (exact).
 pub(crate) fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    // Segments whose boxes are apart do not meet (exact comparisons): most
+    // pairs a polygon's simplicity test looks at.
+    for i in 0..2 {
+        if a[i].max(b[i]) < c[i].min(d[i]) || c[i].max(d[i]) < a[i].min(b[i]) {
+            return false;
+        }
+    }
     let o1 = orient2d_sign(a, b, c);
     let o2 = orient2d_sign(a, b, d);
     let o3 = orient2d_sign(c, d, a);
@@ -165,6 +172,10 @@ pub(crate) fn segments_meet_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2
 pub(crate) fn point_in_triangle_2d(p: [f64; 2], t: [[f64; 2]; 3]) -> bool {
     let o1 = orient2d_sign(t[0], t[1], p);
     let o2 = orient2d_sign(t[1], t[2], p);
+    // Strictly on both sides already: outside, whatever the third says.
+    if o1 * o2 < 0 {
+        return false;
+    }
     let o3 = orient2d_sign(t[2], t[0], p);
     !((o1 > 0 || o2 > 0 || o3 > 0) && (o1 < 0 || o2 < 0 || o3 < 0))
 }
