@@ -6,17 +6,18 @@
 //! and cuts the whole cluster again ([`crate::overlap`]). A cluster can hold
 //! tens of thousands of crossing pairs (a fly medulla neuron's crowded
 //! fillers: 55,465 in one), and re-triangulating all its faces for a nudge
-//! of 29 vertices took most of the time of the re-cut: with the pieces
-//! remembered, that re-cut takes 151 ms instead of about 300. A face's pieces are a
-//! function of its inputs alone: the exact coordinates of its corners, of
-//! the new vertices around and inside it in their order, and the cut
-//! segments between them (as local numbers). A face whose inputs are the same
-//! as the last time takes its pieces from then, renumbered to the vertices
-//! of this cut (their numbers change when a pair before them changes).
+//! of 29 vertices was most of the re-cut's time: with the pieces remembered,
+//! that re-cut takes 151 ms instead of about 300.
 //!
-//! The inputs are taken once the face's triple points are made (new
-//! vertices where two cut segments cross inside it), so they include them.
-//! Only successes are remembered: a face refused is cut again.
+//! A face's pieces are a function of its inputs alone: the exact coordinates
+//! of its corners, those of the new vertices around and inside it (in the
+//! plane it is triangulated in, which its corners choose) in their order,
+//! and the cut segments between them as local numbers. The inputs are taken
+//! once the face's triple points are made (new vertices where two cut
+//! segments cross inside it), so they include them. A face whose inputs are
+//! the same as the last time takes its pieces from then, renumbered to the
+//! vertices of this cut (their numbers change when a pair before them
+//! changes). Only successes are remembered: a face refused is cut again.
 
 use std::ops::Range;
 
