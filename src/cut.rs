@@ -536,8 +536,7 @@ fn cut_face(
     // The pieces are a function of the face's corners, the points in `ids`
     // (triple points made) and the segments between them: a face cut from
     // the same as the last time takes its pieces from then.
-    let remember = memo.active();
-    if remember {
+    if memo.active() {
         let inputs = &mut memo.inputs;
         inputs.clear();
         inputs.extend([nb as u64, ids.len() as u64, segs.len() as u64]);
@@ -559,9 +558,10 @@ fn cut_face(
             return Ok(());
         }
     }
-    // Remembers the pieces made since `before` (as local numbers).
+    // Remembers the pieces made since `before` (as local numbers); `inputs`
+    // were filled above whenever there is a record.
     let keep = |memo: &mut Remembering, out: &Pieces| {
-        if let (true, Some(record)) = (remember, memo.record.as_deref_mut()) {
+        if let Some(record) = memo.record.as_deref_mut() {
             let pieces = out.faces[before..].iter();
             record.put(f, &memo.inputs, pieces.map(|t| t.map(|k| local[&k] as u32)));
         }

@@ -423,14 +423,40 @@ mod tests {
         let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
         let again = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&memo), None);
         assert_eq!(again.expect("pieces"), fresh(&pos, &m, &pairs));
+        // With the remembered corners turned, each reused piece shows it.
+        let turn = |t: [u32; 3]| [t[1], t[2], t[0]];
+        let turned = memo.turned();
+        let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
+        let all = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&turned), None);
+        let want = fresh(&pos, &m, &pairs);
+        let all = all.expect("pieces");
+        assert_eq!(all.origin, want.origin);
+        assert!(
+            all.faces
+                .iter()
+                .zip(&want.faces)
+                .all(|(a, w)| *a == turn(*w))
+        );
         // A corner of the second cube inside the first moves: the faces at
         // it are cut anew, the others reused, all as a fresh cut.
         m.vertices[8] = [0.31, 0.42, 0.47];
         let pos = positions(&m);
         let pairs = pairs_of(&pos, &m);
+        let want = fresh(&pos, &m, &pairs);
         let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
         let moved = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&memo), None);
-        assert_eq!(moved.expect("pieces"), fresh(&pos, &m, &pairs));
+        assert_eq!(moved.expect("pieces"), want);
+        let mut cuts = Cuts::find(&pos, &m.faces, &pairs).expect("cut");
+        let moved = retriangulate_with(&pos, &m.faces, &mut cuts, Some(&turned), None);
+        let moved = moved.expect("pieces");
+        let reused = (moved.faces.iter().zip(&want.faces))
+            .filter(|(a, w)| **a == turn(**w) && a != w)
+            .count();
+        let anew = (moved.faces.iter().zip(&want.faces))
+            .filter(|(a, w)| a == w)
+            .count();
+        assert_eq!(reused + anew, want.faces.len());
+        assert!(reused > 0 && anew > 0, "{reused} reused, {anew} cut anew");
     }
 
     #[test]
