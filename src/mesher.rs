@@ -176,7 +176,7 @@ fn retry(first: FirstTry, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result
         {
             break;
         }
-        let (fewer, resolved) = fillers.unite_without(mesh.clone(), &face_owner, |o| {
+        let (fewer, resolved) = fillers.unite_without(mesh.clone(), face_owner.clone(), |o| {
             stuck.binary_search(&o).is_ok()
         });
         if resolved.outcome.pairs_left == 0 {
@@ -197,7 +197,7 @@ fn retry(first: FirstTry, rebuild: impl FnOnce() -> Result<TubeStage>) -> Result
         }
     }
     Ok(fillers
-        .unite_without(mesh, &face_owner, |o| fillers.has(o))
+        .unite_without(mesh, face_owner, |o| fillers.has(o))
         .0)
 }
 
@@ -224,7 +224,7 @@ fn first_try(stage: TubeStage) -> FirstTry {
     let has_fillers = face_owner.last().is_some_and(|&o| is_filler(o, first_part));
     if !has_fillers {
         let mut mesh = mesh;
-        resolve_overlaps(&mut mesh, &face_owner);
+        resolve_overlaps_owned(&mut mesh, face_owner);
         if mesh.stats.overlap_pairs > 0 && mesh.stats.overlap_pairs_left == 0 {
             drop_shells(&mut mesh, |_| false);
         }
@@ -238,7 +238,7 @@ fn first_try(stage: TubeStage) -> FirstTry {
         first_part,
         of_part: &of_part,
     };
-    let (united, resolved) = fillers.unite_without(mesh, &face_owner, |_| false);
+    let (united, resolved) = fillers.unite_without(mesh, face_owner, |_| false);
     if resolved.outcome.pairs_left == 0 {
         return FirstTry::Clean(united);
     }
@@ -297,7 +297,7 @@ impl Fillers<'_> {
         is_filler(o, self.first_part)
     }
 
-    /// `mesh` (whose face `f` is of part `face_owner[f]`) without the faces
+    /// `mesh` (whose face `f` is of part `owner[f]`) without the faces
     /// of the filler parts `dropped` accepts, its overlaps resolved, and what
     /// the pass told. Where nothing crosses, the fillers lie inside the rest
     /// and are removed; where the union was built, so are the shells
@@ -305,15 +305,15 @@ impl Fillers<'_> {
     fn unite_without(
         &self,
         mut out: Mesh,
-        face_owner: &[u32],
+        mut owner: Vec<u32>,
         dropped: impl Fn(u32) -> bool,
     ) -> (Mesh, crate::overlap::Resolved) {
         let gone = |o: u32| self.has(o) && dropped(o);
-        let owner: Vec<u32> = face_owner.iter().copied().filter(|&o| !gone(o)).collect();
-        if owner.len() < face_owner.len() {
-            out.retain_faces(|f| !gone(face_owner[f]));
+        if owner.iter().any(|&o| gone(o)) {
+            out.retain_faces(|f| !gone(owner[f]));
+            owner.retain(|&o| !gone(o));
         }
-        let resolved = crate::overlap::resolve_with_owner(&mut out, &owner);
+        let resolved = crate::overlap::resolve_owned(&mut out, owner);
         out.stats.overlap_pairs = resolved.outcome.pairs;
         out.stats.overlap_pairs_left = resolved.outcome.pairs_left;
         let mut kept: Vec<u32> = (0..self.of_part.len() as u32)
@@ -321,8 +321,9 @@ impl Fillers<'_> {
             .map(|k| self.of_part[k as usize])
             .collect();
         if resolved.outcome.pairs == 0 {
-            // The pass changed nothing: `owner` still names the faces.
-            out.retain_faces(|f| !self.has(owner[f]));
+            // The pass changed nothing: the owners it hands back are those
+            // it was given.
+            out.retain_faces(|f| !self.has(resolved.owner[f]));
             kept.clear();
         } else if resolved.outcome.pairs_left == 0 && !kept.is_empty() {
             drop_shells(&mut out, |f| self.has(resolved.owner[f]));
@@ -405,7 +406,12 @@ pub fn construct_with(morphology: &Morphology, params: &Params, reach: Reach) ->
 /// Step 6: where parts of the mesh cross each other, the boundary of their
 /// union replaces them ([`crate::overlap`]); counted in the stats.
 pub fn resolve_overlaps(mesh: &mut Mesh, face_owner: &[u32]) {
-    let outcome = crate::overlap::resolve(mesh, face_owner);
+    resolve_overlaps_owned(mesh, face_owner.to_vec());
+}
+
+/// [`resolve_overlaps`], handing the owners over rather than copying them.
+fn resolve_overlaps_owned(mesh: &mut Mesh, face_owner: Vec<u32>) {
+    let outcome = crate::overlap::resolve_owned(mesh, face_owner).outcome;
     mesh.stats.overlap_pairs = outcome.pairs;
     mesh.stats.overlap_pairs_left = outcome.pairs_left;
 }

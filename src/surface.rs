@@ -137,6 +137,8 @@ impl Surface {
             live += 1;
         }
         per_tri.truncate(if carry { live } else { 0 });
+        // Grown by doubling as parts were added: up to twice the room.
+        per_tri.shrink_to_fit();
         tris.truncate(live);
         // Room for the pieces the overlap pass appends (a median 3 % of the
         // faces on the corpus): growing the array there copied it.

@@ -414,6 +414,13 @@ pub(super) fn assemble(
     }
     mesh.vertices.truncate(w);
     mesh.vertex_sample.truncate(w);
+    // Exactly: pushed one by one past their length, the arrays would double
+    // (800 MB for the vertices of a million-sample tree).
+    let added = (n_old..all_pos.len())
+        .filter(|&k| remap[k] != u32::MAX)
+        .count();
+    mesh.vertices.reserve_exact(added);
+    mesh.vertex_sample.reserve_exact(new_labels.len());
     for k in n_old..all_pos.len() {
         if remap[k] != u32::MAX {
             let p = all_pos[k];
