@@ -221,7 +221,7 @@ fn resolve_once(
         };
     }
     let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, round);
-    match union(mesh, owner, pos, &cut, &index.runs, &index.bvh) {
+    match union(mesh, owner, pos, &cut, index) {
         Ok(built) => {
             out.pairs_left = built.pairs_left;
             out.failure = built.failure;
