@@ -371,6 +371,16 @@ impl UnionFind {
         }
         ra.min(rb)
     }
+    /// The root of every item, in the sets' own array. A set is joined
+    /// under its lowest item, so an item's parent comes before it, and one
+    /// pass in order finds every root.
+    pub(crate) fn into_roots(mut self) -> Vec<u32> {
+        for i in 0..self.0.len() {
+            let parent = self.0[i] as usize;
+            self.0[i] = self.0[parent];
+        }
+        self.0
+    }
 }
 
 fn topology(mesh: &MeshView<'_>, r: &mut MeshReport) {

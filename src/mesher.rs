@@ -106,19 +106,20 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter.
 pub fn unite(morphology: &Morphology, params: &Params, mut stage: TubeStage) -> Result<Mesh> {
-    let tracks = std::mem::take(&mut stage.tracks);
+    // Where no contour was widened past the safe cap, building again at it
+    // would give the same stage, and the same first try: the retries go on
+    // from this one. Asked before the first try, so that the tracks are not
+    // held through it.
+    let widened_past_safe = stage
+        .tracks
+        .iter()
+        .any(|t| t.widest() > SAFE_SWEEP_CAP * (1.0 + 1e-9));
+    stage.tracks = Vec::new();
     let fine_fillers = stage.fine_fillers;
     let first = first_try(stage);
     if let FirstTry::Clean(mesh) = first {
         return Ok(mesh);
     }
-    // Where no contour was widened past the safe cap, building again at it
-    // would give the same stage, and the same first try: the retries go on
-    // from this one.
-    let widened_past_safe = tracks
-        .iter()
-        .any(|t| t.widest() > SAFE_SWEEP_CAP * (1.0 + 1e-9));
-    drop(tracks);
     if !widened_past_safe && !fine_fillers {
         return retry(first, || construct_with(morphology, params, FIRST_REACH));
     }

@@ -17,7 +17,7 @@ use crate::hash::FastMap;
 /// The old faces around the pieces, for [`prove`]: the round's runs and
 /// their BVH, and the cluster of each old face (`u32::MAX`: in none).
 pub(crate) struct Near<'a> {
-    pub runs: &'a [(std::ops::Range<u32>, Aabb)],
+    pub runs: &'a [std::ops::Range<u32>],
     pub bvh: &'a Bvh,
     pub in_cluster: &'a [u32],
 }
@@ -310,7 +310,7 @@ fn pieces_crossing_old(
         }
         let mut near_faces: Vec<(u32, Aabb)> = Vec::new();
         near.bvh.for_each_overlap(&bounds, |i| {
-            for b in near.runs[i as usize].0.clone() {
+            for b in near.runs[i as usize].clone() {
                 if !outside(b) {
                     continue;
                 }

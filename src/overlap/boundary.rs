@@ -84,6 +84,17 @@ pub(super) fn union(
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
     let mut faces: Vec<[u32; 3]> = std::mem::take(&mut mesh.faces);
+    // Until the assembly the old vertices are `pos`, exactly them in f64:
+    // their f32 copy goes while the patches are found (the pass's peak, 400
+    // MB of the million-sample tree's) and is made again from what is kept.
+    debug_assert!(
+        all_pos
+            .iter()
+            .zip(&mesh.vertices)
+            .all(|(p, v)| *p == v.map(f64::from)),
+        "the positions are the vertices"
+    );
+    mesh.vertices = Vec::new();
     faces.reserve(new_faces);
     let mut origin: Vec<u32> = Vec::new();
     let mut piece_cluster: Vec<u32> = Vec::new();
@@ -163,6 +174,7 @@ pub(super) fn union(
         if !ok.contains(&true) {
             faces.truncate(first_piece);
             mesh.faces = faces;
+            mesh.vertices = f32_of(&all_pos[..n_old as usize]);
             return Err((failure.unwrap_or("no crossing could be cut"), culprits));
         }
         match &mut tried {
@@ -221,10 +233,7 @@ pub(super) fn union(
                 // what only the tries needed goes first. On the
                 // million-sample tree that was 1.2 of the 4.6 GB at the peak.
                 let Some(Tried {
-                    patch,
-                    alive,
-                    kept,
-                    ..
+                    patch, alive, kept, ..
                 }) = tried.take()
                 else {
                     unreachable!("the first try fills it")
@@ -258,6 +267,7 @@ pub(super) fn union(
                 );
                 let out_owner = assemble(
                     mesh,
+                    n_old as usize,
                     faces,
                     kept,
                     &mut all_pos,
@@ -388,15 +398,18 @@ pub(super) fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) 
 }
 
 /// Makes `mesh` the kept faces with their used vertices renumbered by `remap`
-/// (from [`renumbering`]), all compacted in place (the old vertices and labels
-/// in `mesh`, the faces in `faces`), and returns the part of each face
-/// (`owner_of(f)` for face `f`); `label_from(k)` names the old vertex whose
-/// label vertex `k` takes. In place, because on a large cell fresh arrays of
-/// the mesh's size cost more in page faults than the copying itself.
-/// `all_pos` (the old vertices, then the new ones, all f32-exact) is
-/// compacted the same way, so that it holds the new mesh's vertices in f64.
+/// (from [`renumbering`]), all compacted in place (the labels in `mesh`, the
+/// faces in `faces`), and returns the part of each face (`owner_of(f)` for
+/// face `f`); `label_from(k)` names the old vertex whose label vertex `k`
+/// takes. In place, because on a large cell fresh arrays of the mesh's size
+/// cost more in page faults than the copying itself. `all_pos` (the `n_old`
+/// old vertices, then the new ones, all f32-exact) is compacted the same
+/// way, so that it holds the new mesh's vertices in f64; `mesh.vertices`
+/// (let go by [`union`]) are made from it.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn assemble(
     mesh: &mut Mesh,
+    n_old: usize,
     mut faces: Vec<[u32; 3]>,
     kept: &[bool],
     all_pos: &mut Vec<P3>,
@@ -404,7 +417,6 @@ pub(super) fn assemble(
     owner_of: impl Fn(usize) -> u32,
     label_from: impl Fn(u32) -> u32,
 ) -> Vec<u32> {
-    let n_old = mesh.vertices.len();
     let labels = !mesh.vertex_sample.is_empty();
     // The new vertices' labels, read before the old labels move.
     let new_labels: Vec<u32> = if labels {
@@ -415,34 +427,21 @@ pub(super) fn assemble(
     } else {
         Vec::new()
     };
-    let mut w = 0;
-    for k in 0..n_old {
-        if remap[k] != u32::MAX {
-            debug_assert_eq!(remap[k] as usize, w);
-            mesh.vertices[w] = mesh.vertices[k];
-            if labels {
+    if labels {
+        let mut w = 0;
+        for k in 0..n_old {
+            if remap[k] != u32::MAX {
+                debug_assert_eq!(remap[k] as usize, w);
                 mesh.vertex_sample[w] = mesh.vertex_sample[k];
+                w += 1;
             }
-            w += 1;
         }
+        mesh.vertex_sample.truncate(w);
+        // Exactly: pushed past its length, the array would double.
+        mesh.vertex_sample.reserve_exact(new_labels.len());
+        mesh.vertex_sample.extend_from_slice(&new_labels);
     }
-    mesh.vertices.truncate(w);
-    mesh.vertex_sample.truncate(w);
-    // Exactly: pushed one by one past their length, the arrays would double
-    // (800 MB for the vertices of a million-sample tree).
-    let added = (n_old..all_pos.len())
-        .filter(|&k| remap[k] != u32::MAX)
-        .count();
-    mesh.vertices.reserve_exact(added);
-    mesh.vertex_sample.reserve_exact(new_labels.len());
-    for k in n_old..all_pos.len() {
-        if remap[k] != u32::MAX {
-            let p = all_pos[k];
-            mesh.vertices.push([p[0] as f32, p[1] as f32, p[2] as f32]);
-        }
-    }
-    mesh.vertex_sample.extend_from_slice(&new_labels);
-    // Used vertices move down (never up), as in `mesh.vertices`.
+    // Used vertices move down (never up).
     let mut w = 0;
     for k in 0..all_pos.len() {
         if remap[k] != u32::MAX {
@@ -451,13 +450,7 @@ pub(super) fn assemble(
         }
     }
     all_pos.truncate(w);
-    debug_assert!(
-        all_pos
-            .iter()
-            .zip(&mesh.vertices)
-            .all(|(p, v)| *p == v.map(f64::from)),
-        "the positions follow the vertices"
-    );
+    mesh.vertices = f32_of(all_pos);
     // Kept faces move down (never up), so the list compacts in place.
     let mut out_owner = Vec::with_capacity(faces.len());
     let mut w = 0;
@@ -471,4 +464,9 @@ pub(super) fn assemble(
     faces.truncate(w);
     mesh.faces = faces;
     out_owner
+}
+
+/// The f32 vertices `pos` holds exactly.
+fn f32_of(pos: &[P3]) -> Vec<[f32; 3]> {
+    crate::parallel::map(pos, |p| p.map(|x| x as f32))
 }

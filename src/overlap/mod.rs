@@ -365,8 +365,8 @@ mod tests {
     fn the_search_at_marked_vertices_finds_the_pairs_at_them() {
         let (m, owner) = two_cubes([0.3, 0.4, 0.45]);
         let pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
-        let runs = run_boxes(&pos, &m.faces, &owner);
-        let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+        let (runs, boxes) = run_boxes(&pos, &m.faces, &owner);
+        let bvh = Bvh::new(boxes);
         let all = crossing_pairs(&pos, &m.faces, &owner, &runs, &bvh);
         assert!(!all.is_empty());
         let every: Vec<u32> = (0..pos.len() as u32).collect();
@@ -410,8 +410,8 @@ mod tests {
         let positions =
             |m: &Mesh| -> Vec<P3> { m.vertices.iter().map(|v| v.map(f64::from)).collect() };
         let pairs_of = |pos: &[P3], m: &Mesh| {
-            let runs = run_boxes(pos, &m.faces, &owner);
-            let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+            let (runs, boxes) = run_boxes(pos, &m.faces, &owner);
+            let bvh = Bvh::new(boxes);
             crossing_pairs(pos, &m.faces, &owner, &runs, &bvh)
         };
         let fresh = |pos: &[P3], m: &Mesh, pairs: &[[u32; 2]]| {

@@ -6,12 +6,13 @@ use crate::bvh::{Aabb, Bvh};
 use crate::geom::P3;
 use crate::hash::FastMap;
 
-/// Runs of up to [`RUN`] consecutive faces with one owner, with their boxes.
+/// Runs of up to [`RUN`] consecutive faces with one owner, and their boxes
+/// (for the BVH, which keeps them: the runs do not keep a copy).
 pub(super) fn run_boxes(
     pos: &[P3],
     faces: &[[u32; 3]],
     owner: &[u32],
-) -> Vec<(std::ops::Range<u32>, Aabb)> {
+) -> (Vec<std::ops::Range<u32>>, Vec<Aabb>) {
     let mut runs = Vec::with_capacity(faces.len() / RUN + 1);
     let mut start = 0usize;
     while start < faces.len() {
@@ -24,15 +25,16 @@ pub(super) fn run_boxes(
         runs.push(start as u32..end as u32);
         start = end;
     }
-    crate::parallel::map(&runs, |r| {
+    let boxes = crate::parallel::map(&runs, |r| {
         let mut b = Aabb::EMPTY;
         for f in &faces[r.start as usize..r.end as usize] {
             for &k in f {
                 b.add_point(pos[k as usize]);
             }
         }
-        (r.clone(), b)
-    })
+        b
+    });
+    (runs, boxes)
 }
 
 pub(super) fn face_box(pos: &[P3], f: [u32; 3]) -> Aabb {
@@ -64,24 +66,25 @@ pub(super) fn crossing_pairs(
     pos: &[P3],
     faces: &[[u32; 3]],
     owner: &[u32],
-    runs: &[(std::ops::Range<u32>, Aabb)],
+    runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
 ) -> Vec<[u32; 2]> {
-    let run_owner = |i: u32| owner[runs[i as usize].0.start as usize];
+    let run_owner = |i: u32| owner[runs[i as usize].start as usize];
     let item_pairs = bvh.overlapping_pairs(|i, j| compared(run_owner(i), run_owner(j)));
     let mut pairs = crate::parallel::flat_map_range(item_pairs.len(), |k| {
         let [i, j] = item_pairs[k];
         let (ri, rj) = (&runs[i as usize], &runs[j as usize]);
+        let (bi, bj) = (bvh.item_box(i), bvh.item_box(j));
         // The second run's faces that reach into the first run's box, with
         // their corners and boxes, gathered once rather than per face of
         // the first run (a run holds at most `RUN` faces: on the stack).
         let mut near = [(0u32, [0u32; 3], [[0.0; 3]; 3], Aabb::EMPTY); RUN];
         let mut n_near = 0;
-        for b in rj.0.clone() {
+        for b in rj.clone() {
             let fb = faces[b as usize];
             let tb = fb.map(|k| pos[k as usize]);
             let bb = Aabb::of(&tb);
-            if bb.overlaps(&ri.1) {
+            if bb.overlaps(bi) {
                 near[n_near] = (b, fb, tb, bb);
                 n_near += 1;
             }
@@ -91,11 +94,11 @@ pub(super) fn crossing_pairs(
         if near.is_empty() {
             return out;
         }
-        for a in ri.0.clone() {
+        for a in ri.clone() {
             let fa = faces[a as usize];
             let ta = fa.map(|k| pos[k as usize]);
             let ba = Aabb::of(&ta);
-            if !ba.overlaps(&rj.1) {
+            if !ba.overlaps(bj) {
                 continue;
             }
             for (b, fb, tb, bb) in near {
@@ -118,7 +121,7 @@ pub(super) fn crossing_pairs_at(
     pos: &[P3],
     faces: &[[u32; 3]],
     owner: &[u32],
-    runs: &[(std::ops::Range<u32>, Aabb)],
+    runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
     dirty: &[u32],
 ) -> Vec<[u32; 2]> {
@@ -140,7 +143,7 @@ pub(super) fn crossing_pairs_at(
         let ta = fa.map(|k| pos[k as usize]);
         let mut out = Vec::new();
         bvh.for_each_overlap(&ba, |i| {
-            for b in runs[i as usize].0.clone() {
+            for b in runs[i as usize].clone() {
                 // A pair of two marked faces is found from its first face.
                 if b == a || (marked[b as usize] && b < a) {
                     continue;

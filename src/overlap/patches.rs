@@ -71,7 +71,15 @@ pub(super) fn patches(
             }
         }
     }
-    let mut number = vec![u32::MAX; n_old_vertices + n_extra];
+    // Each root's patch number goes in its own slot, marked by the top bit
+    // (items number far fewer than 2^31): no second array of the vertices'
+    // size at the pass's peak.
+    const NUMBERED: u32 = 1 << 31;
+    assert!(
+        n_old_vertices + n_extra < NUMBERED as usize,
+        "too many vertices"
+    );
+    let mut root = uf.into_roots();
     let mut next = 0u32;
     let mut fresh = || {
         next += 1;
@@ -85,11 +93,16 @@ pub(super) fn patches(
             if !a {
                 return fresh();
             }
-            let root = uf.find(node_of(face, &mut extra)) as usize;
-            if number[root] == u32::MAX {
-                number[root] = fresh();
+            let node = node_of(face, &mut extra) as usize;
+            // A numbered root's slot holds its number; any other item's, its root.
+            let r = match root[node] {
+                v if v & NUMBERED != 0 => return v & !NUMBERED,
+                v => v as usize,
+            };
+            if root[r] & NUMBERED == 0 {
+                root[r] = fresh() | NUMBERED;
             }
-            number[root]
+            root[r] & !NUMBERED
         })
         .collect();
     (patch, next as usize)
@@ -109,7 +122,7 @@ pub(super) fn classify(
     origin_of: &(impl Fn(usize) -> u32 + Sync),
     old_faces: &[[u32; 3]],
     old_pos: &[P3],
-    runs: &[(std::ops::Range<u32>, Aabb)],
+    runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
 ) -> Vec<bool> {
     // The largest face of each patch: its centroid is far from the cuts.
@@ -129,8 +142,8 @@ pub(super) fn classify(
         }
     }
     let mut bounds = Aabb::EMPTY;
-    for r in runs {
-        bounds.add(&r.1);
+    for i in 0..bvh.len() {
+        bounds.add(bvh.item_box(i as u32));
     }
     // A patch of dead faces only has no sample, and is never kept.
     let samples: Vec<u32> = best
@@ -235,13 +248,13 @@ pub(super) fn winding(
     skip: u32,
     faces: &[[u32; 3]],
     pos: &[P3],
-    runs: &[(std::ops::Range<u32>, Aabb)],
+    runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
 ) -> (i32, bool) {
     let mut w = 0;
     let mut near = false;
     bvh.for_each_on_ray(c, d, f64::INFINITY, |i| {
-        for f in runs[i as usize].0.clone() {
+        for f in runs[i as usize].clone() {
             if f == skip {
                 continue;
             }

@@ -57,17 +57,17 @@ pub(super) struct Cut {
 /// remembering costs a little on every cut.
 const MEMO_PAIRS: usize = 2048;
 
-/// Runs of faces with their boxes, and their BVH: grown and refitted when
+/// Runs of faces and the BVH over their boxes (which keeps them): grown and refitted when
 /// vertices move ([`Index::follow`]).
 pub(super) struct Index {
-    pub(super) runs: Vec<(std::ops::Range<u32>, Aabb)>,
+    pub(super) runs: Vec<std::ops::Range<u32>>,
     pub(super) bvh: Bvh,
 }
 
 impl Index {
     pub(super) fn new(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Index {
-        let runs = run_boxes(pos, faces, owner);
-        let bvh = Bvh::new(runs.iter().map(|r| r.1).collect());
+        let (runs, boxes) = run_boxes(pos, faces, owner);
+        let bvh = Bvh::new(boxes);
         Index { runs, bvh }
     }
 
@@ -88,7 +88,6 @@ impl Index {
             pos[v as usize] = new;
         }
         for (i, p) in grown {
-            self.runs[i as usize].1.add_point(p);
             self.bvh.grow_item(i, p);
         }
         self.bvh.refit();
