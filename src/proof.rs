@@ -15,11 +15,11 @@ use crate::geom::P3;
 use crate::hash::FastMap;
 
 /// The old faces around the pieces, for [`prove`]: the round's runs and
-/// their BVH, and the cluster of each old face (`u32::MAX`: in none).
+/// their BVH, and whether an old face is in a cluster.
 pub(crate) struct Near<'a> {
     pub runs: &'a [std::ops::Range<u32>],
     pub bvh: &'a Bvh,
-    pub in_cluster: &'a [u32],
+    pub in_cluster: &'a (dyn Fn(u32) -> bool + Sync),
 }
 
 /// What the proofs of a round's earlier tries showed: the faces kept when
@@ -241,7 +241,7 @@ pub(crate) fn prove(
     if bad.is_empty() {
         // Nor may a kept piece cross an old face left as it was. The old
         // faces sit in the round's BVH at their own (f32) coordinates.
-        let outside = |b: u32| kept[b as usize] && near.in_cluster[b as usize] == u32::MAX;
+        let outside = |b: u32| kept[b as usize] && !(near.in_cluster)(b);
         let hits = match &proven.old_faces {
             None => pieces_crossing_old(&pieces, near, &tri, &crossing, origin_of, &outside),
             Some(before) => {

@@ -15,7 +15,7 @@ use crate::params::Params;
 use crate::spline::{self, Sample};
 
 /// The resampled, framed points of a branch with their contour sizes.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Track {
     /// Resampled points.
     pub samples: Vec<Sample>,
