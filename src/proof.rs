@@ -350,7 +350,7 @@ mod tests {
     fn kept_flags_become_one_bit_each() {
         for n in [0usize, 1, 63, 64, 65, 200] {
             let flags: Vec<bool> = (0..n)
-                .map(|f| crate::hash::mix64(f as u64) % 3 == 0)
+                .map(|f| crate::hash::mix64(f as u64).is_multiple_of(3))
                 .collect();
             let kept = Kept::of(&flags);
             assert_eq!(kept.0.len(), n.div_ceil(64));
