@@ -371,15 +371,56 @@ impl UnionFind {
         }
         ra.min(rb)
     }
-    /// The root of every item, in the sets' own array. A set is joined
-    /// under its lowest item, so an item's parent comes before it, and one
-    /// pass in order finds every root.
-    pub(crate) fn into_roots(mut self) -> Vec<u32> {
+    /// The sets numbered in the order [`Numbering::number`] first meets
+    /// them, in the sets' own array: no second array of the items' size.
+    pub(crate) fn into_numbering(mut self) -> Numbering {
+        // A set is joined under its lowest item, so an item's parent comes
+        // before it, and one pass in order points every item at its root.
         for i in 0..self.0.len() {
             let parent = self.0[i] as usize;
             self.0[i] = self.0[parent];
         }
-        self.0
+        assert!(self.0.len() < NUMBERED as usize, "too many items");
+        Numbering {
+            slots: self.0,
+            next: 0,
+        }
+    }
+}
+
+/// Marks a root's slot that holds its set's number rather than itself.
+const NUMBERED: u32 = 1 << 31;
+
+/// Set numbers in order of first appearance ([`UnionFind::into_numbering`]).
+pub(crate) struct Numbering {
+    /// A numbered root's slot holds its number (marked); any other item's,
+    /// its root.
+    slots: Vec<u32>,
+    next: u32,
+}
+
+impl Numbering {
+    /// The number of item `i`'s set, the next one if it has none yet.
+    pub(crate) fn number(&mut self, i: u32) -> u32 {
+        let r = match self.slots[i as usize] {
+            v if v & NUMBERED != 0 => return v & !NUMBERED,
+            v => v as usize,
+        };
+        if self.slots[r] & NUMBERED == 0 {
+            self.slots[r] = self.fresh() | NUMBERED;
+        }
+        self.slots[r] & !NUMBERED
+    }
+
+    /// A number for something in no set.
+    pub(crate) fn fresh(&mut self) -> u32 {
+        self.next += 1;
+        self.next - 1
+    }
+
+    /// How many numbers were given.
+    pub(crate) fn count(&self) -> usize {
+        self.next as usize
     }
 }
 
@@ -532,27 +573,28 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
 /// in order of first appearance.
 pub fn face_components(mesh: &MeshView<'_>) -> Vec<u32> {
     let mut uf = UnionFind::new(mesh.vertices.len());
+    // The last face's corners are all in the set of `last_root` (still a
+    // root: nothing was joined since). Faces come in strips that share two
+    // corners with the face before: those need no find.
+    let (mut last, mut last_root) = ([u32::MAX; 3], u32::MAX);
     for f in mesh.faces {
-        // The first corner's root carried on: three finds a face, not four.
-        let (r0, r1) = (uf.find(f[0]), uf.find(f[1]));
-        let root = uf.link(r0, r1);
-        let r2 = uf.find(f[2]);
-        uf.link(root, r2);
-    }
-    // Numbered by first appearance, through a table indexed by root.
-    let mut number = vec![u32::MAX; mesh.vertices.len()];
-    let mut count = 0;
-    mesh.faces
-        .iter()
-        .map(|f| {
-            let root = uf.find(f[0]) as usize;
-            if number[root] == u32::MAX {
-                number[root] = count;
-                count += 1;
+        let first_in_last = last.contains(&f[0]);
+        // The first corner's root carried on: a find per other corner.
+        let mut root = if first_in_last {
+            last_root
+        } else {
+            uf.find(f[0])
+        };
+        for &v in &f[1..] {
+            if !(first_in_last && last.contains(&v)) {
+                let rv = uf.find(v);
+                root = uf.link(root, rv);
             }
-            number[root]
-        })
-        .collect()
+        }
+        (last, last_root) = (*f, root);
+    }
+    let mut numbering = uf.into_numbering();
+    mesh.faces.iter().map(|f| numbering.number(f[0])).collect()
 }
 
 /// All pairs of faces that intersect and are not neighbours (or are neighbours

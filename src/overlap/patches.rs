@@ -42,15 +42,27 @@ pub(super) fn patches(
     let mut uf = crate::check::UnionFind::new(n_old_vertices + n_extra);
     let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
     let mut extra = 0u32;
+    // The last live face's corners, all in the set of `last_root` (still a
+    // root: nothing was joined since). Faces come in strips that share two
+    // corners with the face before: those need no find.
+    let mut last = [u32::MAX; 3];
+    let mut last_root = u32::MAX;
     for (face, _) in faces.iter().zip(alive).filter(|(_, a)| **a) {
         let here = node_of(face, &mut extra);
         // The face's set's root, carried from corner to corner: one find
         // per corner instead of two per union.
-        let mut root = uf.find(here);
+        // (A face without an old corner stands for a number of its own,
+        // which may equal a new vertex of the last face.)
+        let here_in_last = here < n_old && last.contains(&here);
+        let mut root = if here_in_last {
+            last_root
+        } else {
+            uf.find(here)
+        };
         for e in 0..3 {
             let (v, w) = (face[e], face[(e + 1) % 3]);
             if v < n_old {
-                if v != here {
+                if v != here && !(here_in_last && last.contains(&v)) {
                     let rv = uf.find(v);
                     root = uf.link(root, rv);
                 }
@@ -70,42 +82,24 @@ pub(super) fn patches(
                 new_edges.insert(key, here);
             }
         }
+        (last, last_root) = (*face, root);
     }
-    // Each root's patch number goes in its own slot, marked by the top bit
-    // (items number far fewer than 2^31): no second array of the vertices'
+    // Numbered in the sets' own array: no second array of the vertices'
     // size at the pass's peak.
-    const NUMBERED: u32 = 1 << 31;
-    assert!(
-        n_old_vertices + n_extra < NUMBERED as usize,
-        "too many vertices"
-    );
-    let mut root = uf.into_roots();
-    let mut next = 0u32;
-    let mut fresh = || {
-        next += 1;
-        next - 1
-    };
+    let mut numbering = uf.into_numbering();
     let mut extra = 0u32;
     let patch = faces
         .iter()
         .zip(alive)
         .map(|(face, &a)| {
-            if !a {
-                return fresh();
+            if a {
+                numbering.number(node_of(face, &mut extra))
+            } else {
+                numbering.fresh()
             }
-            let node = node_of(face, &mut extra) as usize;
-            // A numbered root's slot holds its number; any other item's, its root.
-            let r = match root[node] {
-                v if v & NUMBERED != 0 => return v & !NUMBERED,
-                v => v as usize,
-            };
-            if root[r] & NUMBERED == 0 {
-                root[r] = fresh() | NUMBERED;
-            }
-            root[r] & !NUMBERED
         })
         .collect();
-    (patch, next as usize)
+    (patch, numbering.count())
 }
 
 /// Whether each patch lies outside every other part: the winding number of
