@@ -730,6 +730,33 @@ mod tests {
     use crate::mesh::tests::cube;
 
     #[test]
+    fn sets_are_numbered_by_first_appearance() {
+        let mut uf = UnionFind::new(7);
+        uf.union(5, 2);
+        uf.union(6, 0);
+        uf.union(2, 4);
+        let mut n = uf.into_numbering();
+        // Sets {2, 4, 5}, {0, 6}, {1}, {3}, met in the order 4, 1, 6, ...
+        assert_eq!([4, 1, 6, 5, 0, 2].map(|i| n.number(i)), [0, 1, 2, 0, 2, 0]);
+        assert_eq!(n.fresh(), 3);
+        assert_eq!(n.number(3), 4);
+        assert_eq!(n.count(), 5);
+    }
+
+    #[test]
+    fn faces_joined_through_corners_are_one_component() {
+        // Two strips of two triangles each, the second met in two halves.
+        let v = vec![[0.0f32; 3]; 8];
+        let faces = [[0, 1, 2], [1, 3, 2], [4, 5, 6], [2, 3, 0], [5, 7, 6]];
+        let view = MeshView {
+            vertices: &v,
+            faces: &faces,
+            vertex_sample: &[],
+        };
+        assert_eq!(face_components(&view), vec![0, 0, 1, 0, 1]);
+    }
+
+    #[test]
     fn closed_cube_is_valid() {
         let r = cube().check();
         assert!(r.is_valid(), "{r}");
