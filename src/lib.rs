@@ -18,6 +18,7 @@
 #![forbid(unsafe_code)]
 
 pub mod batch;
+mod bits;
 pub mod blob;
 pub mod branch;
 pub mod bvh;

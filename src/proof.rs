@@ -10,6 +10,7 @@
 //! between two tries only a few clusters change: [`Proven`] keeps what the
 //! tests already showed.
 
+use crate::bits::Bits;
 use crate::bvh::{Aabb, Bvh};
 use crate::geom::P3;
 use crate::hash::FastMap;
@@ -19,7 +20,7 @@ use crate::hash::FastMap;
 pub(crate) struct Near<'a> {
     pub runs: &'a [std::ops::Range<u32>],
     pub bvh: &'a Bvh,
-    pub in_cluster: &'a (dyn Fn(u32) -> bool + Sync),
+    pub in_cluster: &'a Bits,
 }
 
 /// What the proofs of a round's earlier tries showed: the faces kept when
@@ -36,45 +37,11 @@ pub(crate) struct Near<'a> {
 #[derive(Debug, Default)]
 pub(crate) struct Proven {
     /// The faces kept when the edges and fans at new vertices were tested.
-    edges: Option<Kept>,
+    edges: Option<Bits>,
     /// The faces kept when the pieces were last tested against each other.
-    pieces: Option<Kept>,
+    pieces: Option<Bits>,
     /// The faces kept when the pieces were last tested against old faces.
-    old_faces: Option<Kept>,
-}
-
-/// Which faces were kept, a bit each (a million-sample tree has 72 M faces).
-#[derive(Debug, Clone)]
-struct Kept(Vec<u64>);
-
-impl Kept {
-    /// A word of 64 flags at a time, without a branch per face: setting the
-    /// bits one by one was 1.1 s of the million-sample tree's 37.
-    fn of(kept: &[bool]) -> Kept {
-        Kept(
-            kept.chunks(64)
-                .map(|flags| {
-                    flags
-                        .iter()
-                        .enumerate()
-                        .fold(0u64, |w, (i, &k)| w | (u64::from(k) << i))
-                })
-                .collect(),
-        )
-    }
-
-    fn has(&self, f: usize) -> bool {
-        self.0[f / 64] >> (f % 64) & 1 == 1
-    }
-
-    /// The faces of `faces` that were not kept then.
-    fn not_in(&self, faces: &[u32]) -> Vec<u32> {
-        faces
-            .iter()
-            .copied()
-            .filter(|&f| !self.has(f as usize))
-            .collect()
-    }
+    old_faces: Option<Bits>,
 }
 
 impl Proven {
@@ -123,7 +90,7 @@ pub(crate) fn prove(
         let n = piece_cluster.iter().max().map_or(0, |&c| c as usize + 1);
         let mut changed = vec![false; n];
         for f in first_piece..faces.len() {
-            if kept[f] != before.has(f) {
+            if kept[f] != before.has(f as u32) {
                 changed[piece_cluster[f - first_piece] as usize] = true;
             }
         }
@@ -184,7 +151,7 @@ pub(crate) fn prove(
         }
     }
     // The same flags for each test that runs to its end.
-    let kept_now = Kept::of(kept);
+    let kept_now = Bits::of_flags(kept);
     proven.edges = Some(kept_now.clone());
     let round = |p: P3| p.map(|x| f64::from(x as f32));
     let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
@@ -230,7 +197,7 @@ pub(crate) fn prove(
                 let bvh = bvh_of(&fresh);
                 crate::parallel::flat_map_range(pieces.len(), |k| {
                     let a = pieces[k];
-                    let a_fresh = !before.has(a as usize);
+                    let a_fresh = !before.has(a);
                     let mut out = Vec::new();
                     bvh.for_each_overlap(&Aabb::of(&tri(a)), |i| {
                         let b = fresh[i as usize];
@@ -250,7 +217,7 @@ pub(crate) fn prove(
     if bad.is_empty() {
         // Nor may a kept piece cross an old face left as it was. The old
         // faces sit in the round's BVH at their own (f32) coordinates.
-        let outside = |b: u32| kept[b as usize] && !(near.in_cluster)(b);
+        let outside = |b: u32| kept[b as usize] && !near.in_cluster.has(b);
         let hits = match &proven.old_faces {
             None => pieces_crossing_old(&pieces, near, &tri, &crossing, origin_of, &outside),
             Some(before) => {
@@ -260,14 +227,14 @@ pub(crate) fn prove(
                 let mut hits =
                     pieces_crossing_old(&fresh, near, &tri, &crossing, origin_of, &outside);
                 let fresh_old: Vec<u32> = (0..first_piece as u32)
-                    .filter(|&b| outside(b) && !before.has(b as usize))
+                    .filter(|&b| outside(b) && !before.has(b))
                     .collect();
                 if !fresh_old.is_empty() {
                     let bvh = bvh_of(&fresh_old);
                     hits.extend(crate::parallel::flat_map_range(pieces.len(), |k| {
                         let p = pieces[k];
                         let mut hit = false;
-                        if before.has(p as usize) {
+                        if before.has(p) {
                             bvh.for_each_overlap(&Aabb::of(&tri(p)), |i| {
                                 hit = hit || crossing(p, fresh_old[i as usize]);
                             });
@@ -340,25 +307,4 @@ fn pieces_crossing_old(
         });
         if hit { vec![group[0]] } else { Vec::new() }
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Kept;
-
-    #[test]
-    fn kept_flags_become_one_bit_each() {
-        for n in [0usize, 1, 63, 64, 65, 200] {
-            let flags: Vec<bool> = (0..n)
-                .map(|f| crate::hash::mix64(f as u64).is_multiple_of(3))
-                .collect();
-            let kept = Kept::of(&flags);
-            assert_eq!(kept.0.len(), n.div_ceil(64));
-            assert!((0..n).all(|f| kept.has(f) == flags[f]), "n {n}");
-            assert_eq!(
-                kept.not_in(&(0..n as u32).collect::<Vec<_>>()).len(),
-                flags.iter().filter(|k| !**k).count()
-            );
-        }
-    }
 }

@@ -5,6 +5,7 @@
 use super::patches::{classify, patches};
 use super::settle::{Cut, Index};
 use super::{parts_of, vertices_of};
+use crate::bits::Bits;
 use crate::geom::P3;
 use crate::hash::FastSet;
 use crate::mesh::Mesh;
@@ -203,7 +204,7 @@ pub(super) fn union(
         let near = Near {
             runs: &runs,
             bvh: &bvh,
-            in_cluster: &|f| face_cluster.has(f),
+            in_cluster: &face_cluster.bits,
         };
         let proof = |proven: &mut Proven| {
             prove(
@@ -315,7 +316,7 @@ pub(super) fn union(
 /// number per face was 260 MB at the million-sample tree's peak, for the
 /// few per cent of faces that cross.
 struct FaceClusters {
-    bits: Vec<u64>,
+    bits: Bits,
     /// The faces in clusters, sorted, once each.
     faces: Vec<u32>,
     /// The cluster of each of `faces`.
@@ -332,10 +333,7 @@ impl FaceClusters {
         // A face is in one cluster (clusters are joined through shared faces).
         of.sort_unstable();
         of.dedup_by_key(|x| x.0);
-        let mut bits = vec![0u64; n_faces.div_ceil(64)];
-        for &(f, _) in &of {
-            bits[f as usize / 64] |= 1 << (f % 64);
-        }
+        let bits = Bits::of(n_faces, of.iter().map(|x| x.0));
         let (faces, cluster) = of.into_iter().unzip();
         FaceClusters {
             bits,
@@ -344,12 +342,8 @@ impl FaceClusters {
         }
     }
 
-    fn has(&self, f: u32) -> bool {
-        self.bits[f as usize / 64] >> (f % 64) & 1 == 1
-    }
-
     fn get(&self, f: u32) -> Option<u32> {
-        if !self.has(f) {
+        if !self.bits.has(f) {
             return None;
         }
         let i = self.faces.binary_search(&f).ok()?;

@@ -278,11 +278,8 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
     // The nudged vertices are marked in a bit set and their shortest edges
     // kept in a map: an f64 per vertex was 264 MB of fresh pages per nudge
     // on the million-sample tree.
-    let mut marked = vec![0u64; mesh.vertices.len().div_ceil(64)];
-    for &v in vertices {
-        marked[v as usize / 64] |= 1 << (v % 64);
-    }
-    let is_marked = |k: u32| (marked[k as usize / 64] >> (k % 64)) & 1 == 1;
+    let marked = crate::bits::Bits::of(mesh.vertices.len(), vertices.iter().copied());
+    let is_marked = |k: u32| marked.has(k);
     let mut shortest: crate::hash::FastMap<u32, f64> =
         vertices.iter().map(|&v| (v, f64::INFINITY)).collect();
     for f in &mesh.faces {

@@ -57,8 +57,8 @@ pub(super) struct Cut {
 /// remembering costs a little on every cut.
 const MEMO_PAIRS: usize = 2048;
 
-/// Runs of faces and the BVH over their boxes (which keeps them): grown and refitted when
-/// vertices move ([`Index::follow`]).
+/// Runs of faces and the BVH over their boxes (which keeps them): grown
+/// and refitted when vertices move ([`Index::follow`]).
 pub(super) struct Index {
     pub(super) runs: Vec<std::ops::Range<u32>>,
     pub(super) bvh: Bvh,
