@@ -32,7 +32,9 @@ fn main() {
                     .strip_prefix("band ")
                     .and_then(|k| k.parse::<usize>().ok())
                 {
-                    for r in &t.rings[k.saturating_sub(1)..(k + 3).min(t.rings.len())] {
+                    // A built stage keeps only the first `tube::KEPT_RINGS`.
+                    let near = k.saturating_sub(1)..(k + 3).min(t.rings.len());
+                    for r in t.rings.get(near).unwrap_or_default() {
                         println!(
                             "   ring first {} m {} c {:?} n {:?} r {:.4} label {} resampled {}",
                             r.first, r.m, r.center, r.normal, r.radius, r.label, r.resampled

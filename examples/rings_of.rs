@@ -1,5 +1,6 @@
 //! The rings each tube piece of one branch keeps (developer tool):
-//! `rings_of FILE.swc BRANCH`.
+//! `rings_of FILE.swc BRANCH`. A built stage keeps a piece's first
+//! `tube::KEPT_RINGS` rings, so a longer piece shows only those.
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let m = neuromesh::Morphology::from_swc(&a[1]).expect("swc");

@@ -703,6 +703,8 @@ pub fn build_tubes_with(
             stats.contours_skipped += pieces.skipped;
             segments.extend(pieces.segments.into_iter().map(|g| (id, g)));
             for (piece_index, mut t) in pieces.tubes.into_iter().enumerate() {
+                t.rings.truncate(crate::tube::KEPT_RINGS);
+                t.rings.shrink_to_fit();
                 for r in &mut t.rings {
                     r.first += v0;
                 }

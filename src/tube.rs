@@ -67,12 +67,21 @@ impl Ring {
     }
 }
 
+/// How many of a tube's first contours the pipeline keeps once the tube is
+/// built ([`Tube::rings`]): splicing tries its C_1sec among them and the
+/// somas join the first. The others are let go, because nothing after the
+/// tube reads them and a million-sample tree's 4.8 million rings took
+/// 0.5 GB that stayed resident through the overlap pass.
+pub const KEPT_RINGS: usize = 40;
+
 /// A closed or open tube along one piece of a branch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tube {
     /// Index of the branch it belongs to.
     pub branch: u32,
-    /// The kept contours, in order of travel.
+    /// The kept contours, in order of travel: all of them as
+    /// [`crate::piece::build_pieces`] builds the tube, the first
+    /// [`KEPT_RINGS`] of them in a [`crate::mesher::TubeStage`].
     pub rings: Vec<Ring>,
     /// First triangle of the band between ring i and ring i + 1; one more entry
     /// marks the end of the last band.

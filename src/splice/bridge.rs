@@ -432,7 +432,7 @@ pub(super) fn attempts(tube: &Tube) -> Vec<Attempt> {
     }
     // Last resort before detaching: a C_1sec farther out, up to ten radii.
     let far_limit = 10.0 * r0.radius;
-    for k in 1..tube.rings.len().min(40) {
+    for k in 1..tube.rings.len().min(crate::tube::KEPT_RINGS) {
         let d = tube.rings[k].center.distance(r0.center);
         if d <= 3.0 * r0.radius.max(tube.rings[k].radius) {
             continue;
