@@ -82,17 +82,13 @@ pub(super) fn union(
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
     let mut faces: Vec<[u32; 3]> = std::mem::take(&mut mesh.faces);
-    // Until the assembly the old vertices are `pos`, exactly them in f64:
-    // their f32 copy goes while the patches are found (the pass's peak, 400
-    // MB of the million-sample tree's) and is made again from what is kept.
+    // Until the assembly the old vertices are `pos` alone (their f32 copy
+    // went at the round's start, see `resolve_once`); the assembly makes
+    // them again from what is kept.
     debug_assert!(
-        all_pos
-            .iter()
-            .zip(&mesh.vertices)
-            .all(|(p, v)| *p == v.map(f64::from)),
-        "the positions are the vertices"
+        mesh.vertices.is_empty(),
+        "the round holds its vertices in pos"
     );
-    mesh.vertices = Vec::new();
     faces.reserve(new_faces);
     let mut origin: Vec<u32> = Vec::new();
     let mut piece_cluster: Vec<u32> = Vec::new();
@@ -508,6 +504,6 @@ pub(super) fn assemble(
 }
 
 /// The f32 vertices `pos` holds exactly.
-fn f32_of(pos: &[P3]) -> Vec<[f32; 3]> {
+pub(super) fn f32_of(pos: &[P3]) -> Vec<[f32; 3]> {
     crate::parallel::map(pos, |p| p.map(|x| x as f32))
 }

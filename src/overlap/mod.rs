@@ -50,7 +50,7 @@ mod settle;
 
 use crate::geom::P3;
 use crate::mesh::Mesh;
-use boundary::union;
+use boundary::{f32_of, union};
 use pairs::{crossing_pairs, crossing_pairs_at};
 use settle::{Index, cut_with_nudges};
 
@@ -201,6 +201,17 @@ fn resolve_once(
             crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from))
         }
     };
+    // Through the round the vertices are `pos` alone, exactly the f32 ones
+    // in f64: their f32 copy goes (0.4 GB of the million-sample tree's peak)
+    // and is made again from `pos` at the end (by the union's assembly, or
+    // below).
+    debug_assert!(
+        pos.iter()
+            .zip(&mesh.vertices)
+            .all(|(p, v)| *p == v.map(f64::from)),
+        "the positions are the vertices"
+    );
+    mesh.vertices = Vec::new();
     let mut index = Index::new(&pos, &mesh.faces, owner);
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &index.runs, &index.bvh),
@@ -212,6 +223,7 @@ fn resolve_once(
         failure: None,
     };
     if pairs.is_empty() {
+        mesh.vertices = f32_of(&pos);
         return Round {
             outcome: out,
             stuck: Vec::new(),
@@ -273,16 +285,34 @@ fn vertices_of(faces: &[[u32; 3]], which: &[u32]) -> Vec<u32> {
 /// times its shortest edge (at least a few f32 steps), the same for every
 /// run: general position for contacts that f32 coordinates made degenerate.
 fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
+    let at = |k: u32| mesh.vertices[k as usize];
+    let places = nudged(&mesh.faces, mesh.vertices.len(), at, vertices, round);
+    for (&v, p) in vertices.iter().zip(places) {
+        mesh.vertices[v as usize] = p;
+    }
+}
+
+/// Where [`nudge`] moves each of `vertices` (sorted, once each), given the
+/// place `at(k)` of every vertex `k` of `faces` (`n_vertices` of them). A
+/// round keeps its vertices only in f64 (`at` rounds them back, exactly),
+/// so it nudges through this and moves them itself.
+fn nudged(
+    faces: &[[u32; 3]],
+    n_vertices: usize,
+    at: impl Fn(u32) -> [f32; 3],
+    vertices: &[u32],
+    round: u64,
+) -> Vec<[f32; 3]> {
     // Only the edges at a nudged vertex are measured: a few hundred of a
     // million (the lengths of them all took 5 % of a small cell's meshing).
     // The nudged vertices are marked in a bit set and their shortest edges
     // kept in a map: an f64 per vertex was 264 MB of fresh pages per nudge
     // on the million-sample tree.
-    let marked = crate::bits::Bits::of(mesh.vertices.len(), vertices.iter().copied());
+    let marked = crate::bits::Bits::of(n_vertices, vertices.iter().copied());
     let is_marked = |k: u32| marked.has(k);
     let mut shortest: crate::hash::FastMap<u32, f64> =
         vertices.iter().map(|&v| (v, f64::INFINITY)).collect();
-    for f in &mesh.faces {
+    for f in faces {
         if !f.iter().any(|&k| is_marked(k)) {
             continue;
         }
@@ -291,10 +321,7 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
             if !is_marked(a) && !is_marked(b) {
                 continue;
             }
-            let d = crate::mesh::sub(
-                mesh.vertices[a as usize].map(f64::from),
-                mesh.vertices[b as usize].map(f64::from),
-            );
+            let d = crate::mesh::sub(at(a).map(f64::from), at(b).map(f64::from));
             let l = crate::mesh::dot(d, d).sqrt();
             for k in [a, b] {
                 if let Some(s) = shortest.get_mut(&k) {
@@ -303,18 +330,22 @@ fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
             }
         }
     }
-    for &v in vertices {
-        let p = &mut mesh.vertices[v as usize];
-        let scale = p.iter().fold(0f32, |m, x| m.max(x.abs()));
-        let step = 8.0 * f64::from(scale.max(f32::MIN_POSITIVE)) * f64::from(f32::EPSILON);
-        let amp = (NUDGE * shortest[&v]).max(step);
-        let mut h = crate::hash::mix64(u64::from(v) ^ (round << 40) ^ 0x9e37_79b9_7f4a_7c15);
-        for c in p.iter_mut() {
-            h = crate::hash::mix64(h);
-            let unit = (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
-            *c = (f64::from(*c) + amp * unit) as f32;
-        }
-    }
+    vertices
+        .iter()
+        .map(|&v| {
+            let mut p = at(v);
+            let scale = p.iter().fold(0f32, |m, x| m.max(x.abs()));
+            let step = 8.0 * f64::from(scale.max(f32::MIN_POSITIVE)) * f64::from(f32::EPSILON);
+            let amp = (NUDGE * shortest[&v]).max(step);
+            let mut h = crate::hash::mix64(u64::from(v) ^ (round << 40) ^ 0x9e37_79b9_7f4a_7c15);
+            for c in &mut p {
+                h = crate::hash::mix64(h);
+                let unit = (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+                *c = (f64::from(*c) + amp * unit) as f32;
+            }
+            p
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -465,7 +496,7 @@ mod tests {
     #[test]
     fn a_refused_cut_is_nudged_and_cut_again_within_the_round() {
         // Coplanar faces: the plain cut refuses some cluster.
-        let (mut m, mut owner) = two_cubes([0.5, 0.0, 0.0]);
+        let (m, mut owner) = two_cubes([0.5, 0.0, 0.0]);
         let mut pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
         let mut index = Index::new(&pos, &m.faces, &owner);
         let pairs = crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh);
@@ -474,16 +505,20 @@ mod tests {
             .map(|c| settle::cut_one(&pos, &m.faces, c).is_ok())
             .collect();
         assert!(plain.contains(&false), "{plain:?}");
-        let before = m.vertices.clone();
-        let cut = cut_with_nudges(&mut m, &owner, &mut pos, &mut index, pairs, 0);
+        let before = pos.clone();
+        let cut = cut_with_nudges(&m, &owner, &mut pos, &mut index, pairs, 0);
         assert!(cut.built.iter().all(Result::is_ok));
-        assert_ne!(m.vertices, before, "the refused cluster's vertices moved");
-        // The positions and the index follow the mesh.
-        let now: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
-        assert_eq!(pos, now);
+        assert_ne!(pos, before, "the refused cluster's vertices moved");
+        // They moved to f32 places, and the index follows them.
+        assert!(pos.iter().flatten().all(|&x| f64::from(x as f32) == x));
         assert_eq!(
             cut.pairs,
-            crossing_pairs(&now, &m.faces, &owner, &index.runs, &index.bvh)
+            crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh)
+        );
+        let fresh = Index::new(&pos, &m.faces, &owner);
+        assert_eq!(
+            cut.pairs,
+            crossing_pairs(&pos, &m.faces, &owner, &fresh.runs, &fresh.bvh)
         );
         // So the first round builds the union, with nothing left for a second.
         let (mut m, _) = two_cubes([0.5, 0.0, 0.0]);

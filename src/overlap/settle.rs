@@ -23,7 +23,7 @@
 //! still valid and area and volume unchanged to 0.01 %.
 
 use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
-use super::{nudge, vertices_of};
+use super::{nudged, vertices_of};
 use crate::bvh::{Aabb, Bvh};
 use crate::cut::{self, Cuts, Pieces, Refusal};
 use crate::geom::P3;
@@ -71,18 +71,18 @@ impl Index {
         Index { runs, bvh }
     }
 
-    /// Moves each of `moved` from its place in `pos` to its place in
-    /// `vertices`, updating `pos` and growing every run box that held the
+    /// Moves each of `moved` from its place in `pos` to its new place in
+    /// `places` (in the same order), and grows every run box that held the
     /// old place to hold the new one as well: each face at a moved vertex
     /// lies in such a run. A box may come out larger than its run's faces
     /// by a nudge's length, which every use of it allows (each only skips
     /// the faces of boxes that miss a query, and tests the others one by
     /// one). The refit took 32 ms on the million-sample tree's 4.1 million
     /// runs where a new index took 2.0 s.
-    fn follow(&mut self, pos: &mut [P3], moved: &[u32], vertices: &[[f32; 3]]) {
+    fn follow(&mut self, pos: &mut [P3], moved: &[u32], places: &[[f32; 3]]) {
         let mut grown: Vec<(u32, P3)> = Vec::new();
-        for &v in moved {
-            let (old, new) = (pos[v as usize], vertices[v as usize].map(f64::from));
+        for (&v, place) in moved.iter().zip(places) {
+            let (old, new) = (pos[v as usize], place.map(f64::from));
             let at = Aabb { lo: old, hi: old };
             self.bvh.for_each_containing(&at, |i| grown.push((i, new)));
             pos[v as usize] = new;
@@ -99,7 +99,7 @@ impl Index {
 /// again and cuts the clusters that changed, up to [`PHASES`] times. `pos`
 /// and `index` follow the moved vertices.
 pub(super) fn cut_with_nudges(
-    mesh: &mut Mesh,
+    mesh: &Mesh,
     owner: &[u32],
     pos: &mut [P3],
     index: &mut Index,
@@ -131,12 +131,15 @@ pub(super) fn cut_with_nudges(
             break;
         }
         // Salts of their own: the nudges between rounds use the round's number.
-        nudge(
-            mesh,
+        // The round holds its vertices in `pos` alone (see `resolve_once`).
+        let places = nudged(
+            &mesh.faces,
+            pos.len(),
+            |k| pos[k as usize].map(|x| x as f32),
             &moved,
             (1 << 16) | ((round as u64) << 8) | phase as u64,
         );
-        index.follow(pos, &moved, &mesh.vertices);
+        index.follow(pos, &moved, &places);
         now = cut_again(mesh, owner, pos, index, now, &moved);
     }
     now
