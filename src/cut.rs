@@ -23,7 +23,7 @@
 
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::geom::{P3, orient2d_sign, orient3d, orient3d_sign};
+use crate::geom::{P3, V3, at, orient2d_sign, orient3d, orient3d_sign};
 use crate::hash::{FastMap, FastSet};
 use crate::recut::Memo;
 
@@ -111,7 +111,7 @@ struct FaceCut {
 
 impl Cuts {
     /// The cuts of `faces` for the crossing `pairs`.
-    pub fn find(pos: &[P3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Cuts, Refusal> {
+    pub fn find(pos: &[V3], faces: &[[u32; 3]], pairs: &[[u32; 2]]) -> Result<Cuts, Refusal> {
         let mut cuts = Cuts {
             n_old: pos.len() as u32,
             ..Cuts::default()
@@ -127,7 +127,7 @@ impl Cuts {
     /// The piercings and the cut segment of one crossing pair `[a, b]`.
     fn cut_pair(
         &mut self,
-        pos: &[P3],
+        pos: &[V3],
         faces: &[[u32; 3]],
         ids: &mut FastMap<(u32, u32, u32), u32>,
         [a, b]: [u32; 2],
@@ -140,7 +140,7 @@ impl Cuts {
         let mut ends: Vec<(u32, bool)> = Vec::with_capacity(2);
         for (edges_of, face) in [(fa, b), (fb, a)] {
             let f = faces[face as usize];
-            let t = f.map(|k| pos[k as usize]);
+            let t = f.map(|k| at(pos, k));
             let side: [i8; 3] = std::array::from_fn(|i| sign([f[0], f[1], f[2], edges_of[i]], pos));
             for i in 0..3 {
                 let (u, v) = (edges_of[i], edges_of[(i + 1) % 3]);
@@ -221,13 +221,13 @@ impl Cuts {
     /// New vertex where edge (u, v), u < v, pierces face `face` (corners `t`).
     fn pierce(
         &mut self,
-        pos: &[P3],
+        pos: &[V3],
         u: u32,
         v: u32,
         face: u32,
         t: [P3; 3],
     ) -> Result<u32, &'static str> {
-        let (pu, pv) = (pos[u as usize], pos[v as usize]);
+        let (pu, pv) = (at(pos, u), at(pos, v));
         let (du, dv) = (
             orient3d(t[0], t[1], t[2], pu),
             orient3d(t[0], t[1], t[2], pv),
@@ -251,9 +251,9 @@ impl Cuts {
     }
 
     /// Position of vertex `k`, old or new.
-    pub fn at(&self, pos: &[P3], k: u32) -> P3 {
+    pub fn at(&self, pos: &[V3], k: u32) -> P3 {
         if k < self.n_old {
-            pos[k as usize]
+            at(pos, k)
         } else {
             self.points[(k - self.n_old) as usize]
         }
@@ -262,13 +262,13 @@ impl Cuts {
     /// New vertex where the planes of three faces meet.
     fn triple_point(
         &mut self,
-        pos: &[P3],
+        pos: &[V3],
         faces: &[[u32; 3]],
         key: [u32; 3],
     ) -> Result<u32, &'static str> {
         use crate::mesh::{cross, dot, sub};
         let planes: [(P3, f64); 3] = key.map(|f| {
-            let t = faces[f as usize].map(|k| pos[k as usize]);
+            let t = faces[f as usize].map(|k| at(pos, k));
             let n = cross(sub(t[1], t[0]), sub(t[2], t[0]));
             (n, dot(n, t[0]))
         });
@@ -304,13 +304,8 @@ impl Cuts {
 /// a rule that depends only on the four vertices, so every test that meets the
 /// same quadruple decides it the same way, and is antisymmetric as the
 /// determinant is.
-fn sign(v: [u32; 4], pos: &[P3]) -> i8 {
-    let s = orient3d_sign(
-        pos[v[0] as usize],
-        pos[v[1] as usize],
-        pos[v[2] as usize],
-        pos[v[3] as usize],
-    );
+fn sign(v: [u32; 4], pos: &[V3]) -> i8 {
+    let s = orient3d_sign(at(pos, v[0]), at(pos, v[1]), at(pos, v[2]), at(pos, v[3]));
     if s != 0 {
         return s;
     }
@@ -347,7 +342,7 @@ pub struct Pieces {
 /// ([`crate::planar::triangulate_polygon`], the same triangulation spade
 /// would give); on a cell with a few thousand cut faces that takes a tenth of
 /// the instructions of spade's bulk load, which remains for the rest.
-pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<Pieces, Refusal> {
+pub fn retriangulate(pos: &[V3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<Pieces, Refusal> {
     retriangulate_with(pos, faces, cuts, None, None)
 }
 
@@ -356,7 +351,7 @@ pub fn retriangulate(pos: &[P3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
 /// face gave ([`crate::recut`]). The pieces are those [`retriangulate`]
 /// gives.
 pub fn retriangulate_with(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     cuts: &mut Cuts,
     reuse: Option<&Memo>,
@@ -403,7 +398,7 @@ impl Remembering<'_> {
 /// Cut face `f` re-triangulated along its cut segments, its pieces appended
 /// to `out` (see [`retriangulate`]).
 fn cut_face(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     cuts: &mut Cuts,
     f: u32,
@@ -452,7 +447,7 @@ fn cut_face(
         at.extend(segments.iter().map(|x| x.1));
         Refusal { why, faces: at }
     };
-    let t = face.map(|k| pos[k as usize]);
+    let t = face.map(|k| at(pos, k));
     let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
     let axis = (0..3)
         .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))

@@ -14,6 +14,17 @@ use crate::mesh::{cross, dot, sub};
 /// A point or vector.
 pub type P3 = [f64; 3];
 
+/// A vertex as the output holds it. The overlap pass keeps its vertices so,
+/// the new ones rounded at once ([`crate::cut`]), and reads them in f64
+/// through [`at`]: an f64 copy was 0.85 GB of a million-sample tree's peak.
+pub type V3 = [f32; 3];
+
+/// Vertex `k` of `pos`, in f64 (exactly).
+#[inline]
+pub fn at(pos: &[V3], k: u32) -> P3 {
+    pos[k as usize].map(f64::from)
+}
+
 fn c3(p: P3) -> robust::Coord3D<f64> {
     robust::Coord3D {
         x: p[0],

@@ -12,7 +12,7 @@
 
 use crate::bits::Bits;
 use crate::bvh::{Aabb, Bvh};
-use crate::geom::P3;
+use crate::geom::{P3, V3, at};
 use crate::hash::FastMap;
 
 /// The old faces around the pieces, for [`prove`]: the round's runs and
@@ -67,7 +67,7 @@ impl Proven {
 pub(crate) fn prove(
     faces: &[[u32; 3]],
     kept: &[bool],
-    all_pos: &[P3],
+    all_pos: &[V3],
     first_piece: usize,
     n_old: u32,
     origin_of: &(impl Fn(usize) -> u32 + Sync),
@@ -153,9 +153,9 @@ pub(crate) fn prove(
     // The same flags for each test that runs to its end.
     let kept_now = Bits::of_flags(kept);
     proven.edges = Some(kept_now.clone());
-    let round = |p: P3| p.map(|x| f64::from(x as f32));
-    let tri = |f: u32| faces[f as usize].map(|k| round(all_pos[k as usize]));
-    // A BVH over the rounded triangles of `which`.
+    // The triangles as the output holds them (the vertices are f32).
+    let tri = |f: u32| faces[f as usize].map(|k| at(all_pos, k));
+    // A BVH over the triangles of `which`.
     let bvh_of = |which: &[u32]| Bvh::new(which.iter().map(|&f| Aabb::of(&tri(f))).collect());
     let crossing = |a: u32, b: u32| {
         crate::check::pair_intersects(faces[a as usize], faces[b as usize], tri(a), tri(b))

@@ -6,7 +6,7 @@ use super::patches::{classify, patches};
 use super::settle::{Cut, Index};
 use super::{parts_of, vertices_of};
 use crate::bits::Bits;
-use crate::geom::P3;
+use crate::geom::V3;
 use crate::hash::FastSet;
 use crate::mesh::Mesh;
 use crate::proof::{Near, Proven, prove};
@@ -25,21 +25,18 @@ pub(super) struct Built {
     pub(super) dirty: Vec<u32>,
     /// The parts of the faces of clusters left uncut.
     pub(super) left_parts: Vec<u32>,
-    /// The new mesh's vertices in f64 (exactly its f32 ones), for the next
-    /// round.
-    pub(super) pos: Vec<P3>,
 }
 
 /// The union's boundary where it could be built.
 ///
 /// Works in `mesh`'s face list and `pos` (the old faces and vertices stay
 /// first, the pieces and new vertices go after them) rather than in copies;
-/// on failure `mesh` is left as it was. The round's `index` is dropped
+/// `pos` becomes `mesh`'s vertices, and on failure `mesh` is left as it was. The round's `index` is dropped
 /// before the assembly, the pass's peak.
 pub(super) fn union(
     mesh: &mut Mesh,
     owner: &[u32],
-    pos: Vec<P3>,
+    pos: Vec<V3>,
     cut: &Cut,
     index: Index,
 ) -> Result<Built, (&'static str, Vec<u32>)> {
@@ -77,7 +74,7 @@ pub(super) fn union(
         .fold((0, 0), |(p, f), (cuts, pieces)| {
             (p + cuts.points.len(), f + pieces.faces.len())
         });
-    let mut all_pos: Vec<P3> = pos;
+    let mut all_pos: Vec<V3> = pos;
     all_pos.reserve(new_points);
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
@@ -96,7 +93,15 @@ pub(super) fn union(
     for (c, b) in built.iter().enumerate() {
         if let Ok((cuts, pieces)) = b {
             offset[c] = all_pos.len() as u32 - n_old;
-            all_pos.extend_from_slice(&cuts.points);
+            // The cut rounds its new vertices to f32 at once.
+            debug_assert!(
+                cuts.points
+                    .iter()
+                    .flatten()
+                    .all(|&x| f64::from(x as f32) == x),
+                "the new vertices are f32"
+            );
+            all_pos.extend(cuts.points.iter().map(|p| p.map(|x| x as f32)));
             new_cluster.extend(std::iter::repeat_n(c as u32, cuts.points.len()));
             let r = |k: u32| if k < n_old { k } else { k + offset[c] };
             cut_edges.extend(cuts.cut_edges().map(|(a, b)| {
@@ -168,7 +173,8 @@ pub(super) fn union(
         if !ok.contains(&true) {
             faces.truncate(first_piece);
             mesh.faces = faces;
-            mesh.vertices = f32_of(&all_pos[..n_old as usize]);
+            all_pos.truncate(n_old as usize);
+            mesh.vertices = all_pos;
             return Err((failure.unwrap_or("no crossing could be cut"), culprits));
         }
         match &mut tried {
@@ -264,7 +270,7 @@ pub(super) fn union(
                     n_old as usize,
                     faces,
                     kept,
-                    &mut all_pos,
+                    all_pos,
                     &remap,
                     |f| owner[origin_of(f) as usize],
                     |k| {
@@ -286,7 +292,6 @@ pub(super) fn union(
                     stuck,
                     dirty,
                     left_parts: parts_of(owner, &uncut),
-                    pos: all_pos,
                 });
             }
             Err((why, at_fault)) => {
@@ -440,16 +445,15 @@ pub(super) fn renumbering(faces: &[[u32; 3]], kept: &[bool], n_vertices: usize) 
 /// face `f`); `label_from(k)` names the old vertex whose label vertex `k`
 /// takes. In place, because on a large cell fresh arrays of the mesh's size
 /// cost more in page faults than the copying itself. `all_pos` (the `n_old`
-/// old vertices, then the new ones, all f32-exact) is compacted the same
-/// way, so that it holds the new mesh's vertices in f64; `mesh.vertices`
-/// (let go by [`union`]) are made from it.
+/// old vertices, then the new ones) is compacted the same way and becomes
+/// `mesh.vertices`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn assemble(
     mesh: &mut Mesh,
     n_old: usize,
     mut faces: Vec<[u32; 3]>,
     kept: &[bool],
-    all_pos: &mut Vec<P3>,
+    mut all_pos: Vec<V3>,
     remap: &[u32],
     owner_of: impl Fn(usize) -> u32,
     label_from: impl Fn(u32) -> u32,
@@ -487,7 +491,7 @@ pub(super) fn assemble(
         }
     }
     all_pos.truncate(w);
-    mesh.vertices = f32_of(all_pos);
+    mesh.vertices = all_pos;
     // Kept faces move down (never up), so the list compacts in place.
     let mut out_owner = Vec::with_capacity(faces.len());
     let mut w = 0;
@@ -501,9 +505,4 @@ pub(super) fn assemble(
     faces.truncate(w);
     mesh.faces = faces;
     out_owner
-}
-
-/// The f32 vertices `pos` holds exactly.
-pub(super) fn f32_of(pos: &[P3]) -> Vec<[f32; 3]> {
-    crate::parallel::map(pos, |p| p.map(|x| x as f32))
 }

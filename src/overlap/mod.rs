@@ -48,9 +48,9 @@ mod pairs;
 mod patches;
 mod settle;
 
-use crate::geom::P3;
+use crate::geom::V3;
 use crate::mesh::Mesh;
-use boundary::{f32_of, union};
+use boundary::union;
 use pairs::{crossing_pairs, crossing_pairs_at};
 use settle::{Index, cut_with_nudges};
 
@@ -128,10 +128,8 @@ pub fn resolve_owned(mesh: &mut Mesh, owner: Vec<u32>) -> Resolved {
     // the clusters (a piece crossing a face left uncut is found from that face).
     let mut dirty: Option<Vec<u32>> = None;
     let mut left_parts = Vec::new();
-    // The vertices in f64, carried from a round to the next.
-    let mut pos: Option<Vec<P3>> = None;
     for round in 0..ROUNDS {
-        let mut once = resolve_once(mesh, &mut owner, round, dirty.as_deref(), pos.take());
+        let once = resolve_once(mesh, &mut owner, round, dirty.as_deref());
         if round == 0 {
             out.pairs = once.outcome.pairs;
         }
@@ -142,12 +140,6 @@ pub fn resolve_owned(mesh: &mut Mesh, owner: Vec<u32>) -> Resolved {
             break;
         }
         nudge(mesh, &once.stuck, round as u64);
-        if let Some(p) = &mut once.pos {
-            for &v in &once.stuck {
-                p[v as usize] = mesh.vertices[v as usize].map(f64::from);
-            }
-        }
-        pos = once.pos;
         let mut next = once.dirty;
         next.extend_from_slice(&once.stuck);
         next.sort_unstable();
@@ -172,46 +164,23 @@ struct Round {
     dirty: Vec<u32>,
     /// The parts of the faces of the clusters left uncut ([`Resolved`]).
     left_parts: Vec<u32>,
-    /// The mesh's vertices in f64, where the round assembled a new mesh.
-    pos: Option<Vec<P3>>,
 }
 
 /// One round; with `dirty` (vertices), only faces at one of them are looked
-/// at for crossings. `pos`, if given, is the mesh's vertices in f64 (the
-/// round before assembled it): on the million-sample tree a fresh copy was
-/// 887 MB of new pages.
+/// at for crossings.
 fn resolve_once(
     mesh: &mut Mesh,
     owner: &mut Vec<u32>,
     round: usize,
     dirty: Option<&[u32]>,
-    pos: Option<Vec<P3>>,
 ) -> Round {
-    let mut pos: Vec<P3> = match pos {
-        // Later rounds append few vertices: the union reserves them.
-        Some(p) => {
-            debug_assert_eq!(p.len(), mesh.vertices.len());
-            p
-        }
-        // The first round appends the new vertices: on the corpus a median
-        // 1 % (a tenth at the 90th percentile), and growing the array
-        // copied it.
-        None => {
-            let room = mesh.vertices.len() / 8;
-            crate::parallel::map_with_room(&mesh.vertices, room, |v| v.map(f64::from))
-        }
-    };
-    // Through the round the vertices are `pos` alone, exactly the f32 ones
-    // in f64: their f32 copy goes (0.4 GB of the million-sample tree's peak)
-    // and is made again from `pos` at the end (by the union's assembly, or
-    // below).
-    debug_assert!(
-        pos.iter()
-            .zip(&mesh.vertices)
-            .all(|(p, v)| *p == v.map(f64::from)),
-        "the positions are the vertices"
-    );
-    mesh.vertices = Vec::new();
+    // Through the round the vertices are `pos`, taken from the mesh (where
+    // the union's assembly or a round without crossings puts them back),
+    // read in f64 where they are used. New vertices go after them: on the
+    // corpus a median 1 % (a tenth at the 90th percentile), and growing the
+    // array copied it; later rounds append few.
+    let mut pos: Vec<V3> = std::mem::take(&mut mesh.vertices);
+    pos.reserve_exact(pos.len() / 8);
     let mut index = Index::new(&pos, &mesh.faces, owner);
     let pairs = match dirty {
         None => crossing_pairs(&pos, &mesh.faces, owner, &index.runs, &index.bvh),
@@ -223,13 +192,12 @@ fn resolve_once(
         failure: None,
     };
     if pairs.is_empty() {
-        mesh.vertices = f32_of(&pos);
+        mesh.vertices = pos;
         return Round {
             outcome: out,
             stuck: Vec::new(),
             dirty: Vec::new(),
             left_parts: Vec::new(),
-            pos: None,
         };
     }
     let cut = cut_with_nudges(mesh, owner, &mut pos, &mut index, pairs, round);
@@ -243,7 +211,6 @@ fn resolve_once(
                 stuck: built.stuck,
                 dirty: built.dirty,
                 left_parts: built.left_parts,
-                pos: Some(built.pos),
             }
         }
         Err((why, culprits)) => {
@@ -259,7 +226,6 @@ fn resolve_once(
                 stuck,
                 dirty,
                 left_parts,
-                pos: None,
             }
         }
     }
@@ -392,7 +358,7 @@ mod tests {
     #[test]
     fn the_search_at_marked_vertices_finds_the_pairs_at_them() {
         let (m, owner) = two_cubes([0.3, 0.4, 0.45]);
-        let pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
+        let pos: Vec<V3> = m.vertices.clone();
         let (runs, boxes) = run_boxes(&pos, &m.faces, &owner);
         let bvh = Bvh::new(boxes);
         let all = crossing_pairs(&pos, &m.faces, &owner, &runs, &bvh);
@@ -435,14 +401,13 @@ mod tests {
         use crate::cut::{Cuts, retriangulate, retriangulate_with};
         use crate::recut::Memo;
         let (mut m, owner) = two_cubes([0.3, 0.4, 0.45]);
-        let positions =
-            |m: &Mesh| -> Vec<P3> { m.vertices.iter().map(|v| v.map(f64::from)).collect() };
-        let pairs_of = |pos: &[P3], m: &Mesh| {
+        let positions = |m: &Mesh| -> Vec<V3> { m.vertices.clone() };
+        let pairs_of = |pos: &[V3], m: &Mesh| {
             let (runs, boxes) = run_boxes(pos, &m.faces, &owner);
             let bvh = Bvh::new(boxes);
             crossing_pairs(pos, &m.faces, &owner, &runs, &bvh)
         };
-        let fresh = |pos: &[P3], m: &Mesh, pairs: &[[u32; 2]]| {
+        let fresh = |pos: &[V3], m: &Mesh, pairs: &[[u32; 2]]| {
             let mut cuts = Cuts::find(pos, &m.faces, pairs).expect("cut");
             retriangulate(pos, &m.faces, &mut cuts).expect("pieces")
         };
@@ -497,7 +462,7 @@ mod tests {
     fn a_refused_cut_is_nudged_and_cut_again_within_the_round() {
         // Coplanar faces: the plain cut refuses some cluster.
         let (m, mut owner) = two_cubes([0.5, 0.0, 0.0]);
-        let mut pos: Vec<P3> = m.vertices.iter().map(|v| v.map(f64::from)).collect();
+        let mut pos: Vec<V3> = m.vertices.clone();
         let mut index = Index::new(&pos, &m.faces, &owner);
         let pairs = crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh);
         let plain: Vec<bool> = pairs::clusters_of(&pairs)
@@ -509,8 +474,7 @@ mod tests {
         let cut = cut_with_nudges(&m, &owner, &mut pos, &mut index, pairs, 0);
         assert!(cut.built.iter().all(Result::is_ok));
         assert_ne!(pos, before, "the refused cluster's vertices moved");
-        // They moved to f32 places, and the index follows them.
-        assert!(pos.iter().flatten().all(|&x| f64::from(x as f32) == x));
+        // The index follows them.
         assert_eq!(
             cut.pairs,
             crossing_pairs(&pos, &m.faces, &owner, &index.runs, &index.bvh)
@@ -522,7 +486,7 @@ mod tests {
         );
         // So the first round builds the union, with nothing left for a second.
         let (mut m, _) = two_cubes([0.5, 0.0, 0.0]);
-        let once = resolve_once(&mut m, &mut owner, 0, None, None);
+        let once = resolve_once(&mut m, &mut owner, 0, None);
         assert_eq!(once.outcome.pairs_left, 0, "{:?}", once.outcome);
         assert!(once.stuck.is_empty());
         assert!(m.check().is_valid());

@@ -3,13 +3,13 @@
 
 use super::{NO_OWNER, RUN};
 use crate::bvh::{Aabb, Bvh};
-use crate::geom::P3;
+use crate::geom::{P3, V3, at};
 use crate::hash::FastMap;
 
 /// Runs of up to [`RUN`] consecutive faces with one owner, and their boxes
 /// (for the BVH, which keeps them: the runs do not keep a copy).
 pub(super) fn run_boxes(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     owner: &[u32],
 ) -> (Vec<std::ops::Range<u32>>, Vec<Aabb>) {
@@ -29,7 +29,7 @@ pub(super) fn run_boxes(
         let mut b = Aabb::EMPTY;
         for f in &faces[r.start as usize..r.end as usize] {
             for &k in f {
-                b.add_point(pos[k as usize]);
+                b.add_point(at(pos, k));
             }
         }
         b
@@ -37,8 +37,8 @@ pub(super) fn run_boxes(
     (runs, boxes)
 }
 
-pub(super) fn face_box(pos: &[P3], f: [u32; 3]) -> Aabb {
-    Aabb::of(&f.map(|k| pos[k as usize]))
+pub(super) fn face_box(pos: &[V3], f: [u32; 3]) -> Aabb {
+    Aabb::of(&f.map(|k| at(pos, k)))
 }
 
 /// Whether faces of these owners are compared: different parts, or faces
@@ -49,7 +49,7 @@ pub(super) fn compared(a: u32, b: u32) -> bool {
 
 /// Whether face `fa` (corners `ta`, box `ba`) crosses face `b`.
 pub(super) fn crosses(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     fa: [u32; 3],
     ta: [P3; 3],
@@ -58,12 +58,12 @@ pub(super) fn crosses(
 ) -> bool {
     let fb = faces[b as usize];
     ba.overlaps(&face_box(pos, fb))
-        && crate::check::pair_intersects(fa, fb, ta, fb.map(|k| pos[k as usize]))
+        && crate::check::pair_intersects(fa, fb, ta, fb.map(|k| at(pos, k)))
 }
 
 /// All intersecting pairs of faces of different owners, sorted.
 pub(super) fn crossing_pairs(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     owner: &[u32],
     runs: &[std::ops::Range<u32>],
@@ -82,7 +82,7 @@ pub(super) fn crossing_pairs(
         let mut n_near = 0;
         for b in rj.clone() {
             let fb = faces[b as usize];
-            let tb = fb.map(|k| pos[k as usize]);
+            let tb = fb.map(|k| at(pos, k));
             let bb = Aabb::of(&tb);
             if bb.overlaps(bi) {
                 near[n_near] = (b, fb, tb, bb);
@@ -96,7 +96,7 @@ pub(super) fn crossing_pairs(
         }
         for a in ri.clone() {
             let fa = faces[a as usize];
-            let ta = fa.map(|k| pos[k as usize]);
+            let ta = fa.map(|k| at(pos, k));
             let ba = Aabb::of(&ta);
             if !ba.overlaps(bj) {
                 continue;
@@ -118,20 +118,20 @@ pub(super) fn crossing_pairs(
 /// face has a corner in `dirty` (sorted vertices), sorted: what
 /// [`crossing_pairs`] finds when every other crossing is known to be gone.
 pub(super) fn crossing_pairs_at(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     owner: &[u32],
     runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
     dirty: &[u32],
 ) -> Vec<[u32; 2]> {
-    let mut at = vec![false; pos.len()];
+    let mut marked = vec![false; pos.len()];
     for &v in dirty {
-        at[v as usize] = true;
+        marked[v as usize] = true;
     }
     let marked: Vec<bool> = faces
         .iter()
-        .map(|f| f.iter().any(|&k| at[k as usize]))
+        .map(|f| f.iter().any(|&k| marked[k as usize]))
         .collect();
     let queries: Vec<u32> = (0..faces.len() as u32)
         .filter(|&f| marked[f as usize])
@@ -140,7 +140,7 @@ pub(super) fn crossing_pairs_at(
         let a = queries[k];
         let fa = faces[a as usize];
         let ba = face_box(pos, fa);
-        let ta = fa.map(|k| pos[k as usize]);
+        let ta = fa.map(|k| at(pos, k));
         let mut out = Vec::new();
         bvh.for_each_overlap(&ba, |i| {
             for b in runs[i as usize].clone() {

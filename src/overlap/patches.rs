@@ -2,7 +2,7 @@
 //! lies outside every other part, by the winding number along rays.
 
 use crate::bvh::{Aabb, Bvh};
-use crate::geom::{self, P3};
+use crate::geom::{self, P3, V3, at};
 use crate::hash::{FastMap, FastSet};
 
 /// Patch number of every face: faces joined through an old vertex (a cut
@@ -110,12 +110,12 @@ pub(super) fn patches(
 pub(super) fn classify(
     faces: &[[u32; 3]],
     alive: &[bool],
-    all_pos: &[P3],
+    all_pos: &[V3],
     patch: &[u32],
     n_patches: usize,
     origin_of: &(impl Fn(usize) -> u32 + Sync),
     old_faces: &[[u32; 3]],
-    old_pos: &[P3],
+    old_pos: &[V3],
     runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
 ) -> Vec<bool> {
@@ -127,7 +127,7 @@ pub(super) fn classify(
         if !alive[f] {
             continue;
         }
-        let t = face.map(|k| all_pos[k as usize]);
+        let t = face.map(|k| at(all_pos, k));
         let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
         let area = crate::mesh::dot(n, n);
         let slot = &mut best[patch[f] as usize];
@@ -146,7 +146,7 @@ pub(super) fn classify(
         .filter(|&f| f != u32::MAX)
         .collect();
     let verdicts = crate::parallel::map(&samples, |&f| {
-        let t = faces[f as usize].map(|k| all_pos[k as usize]);
+        let t = faces[f as usize].map(|k| at(all_pos, k));
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
             (t[0][1] + t[1][1] + t[2][1]) / 3.0,
@@ -156,7 +156,7 @@ pub(super) fn classify(
         // Counted without the face the point lies on, a ray gives the winding
         // number on the side of that face it leaves towards: so every ray
         // leaves towards the outside.
-        let o = old_faces[skip as usize].map(|k| old_pos[k as usize]);
+        let o = old_faces[skip as usize].map(|k| at(old_pos, k));
         let n = crate::mesh::cross(crate::mesh::sub(o[1], o[0]), crate::mesh::sub(o[2], o[0]));
         let rays = ray_directions(c, n, &bounds);
         let mut votes = [0u32; 2];
@@ -241,7 +241,7 @@ pub(super) fn winding(
     d: P3,
     skip: u32,
     faces: &[[u32; 3]],
-    pos: &[P3],
+    pos: &[V3],
     runs: &[std::ops::Range<u32>],
     bvh: &Bvh,
 ) -> (i32, bool) {
@@ -252,7 +252,7 @@ pub(super) fn winding(
             if f == skip {
                 continue;
             }
-            let t = faces[f as usize].map(|k| pos[k as usize]);
+            let t = faces[f as usize].map(|k| at(pos, k));
             let (hit, close) = geom::ray_triangle_near(c, d, t);
             near |= close;
             if hit.is_some_and(|s| s > 0.0) {

@@ -26,7 +26,7 @@ use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
 use super::{nudged, vertices_of};
 use crate::bvh::{Aabb, Bvh};
 use crate::cut::{self, Cuts, Pieces, Refusal};
-use crate::geom::P3;
+use crate::geom::{P3, V3, at};
 use crate::hash::FastMap;
 use crate::mesh::Mesh;
 use crate::recut::Memo;
@@ -65,7 +65,7 @@ pub(super) struct Index {
 }
 
 impl Index {
-    pub(super) fn new(pos: &[P3], faces: &[[u32; 3]], owner: &[u32]) -> Index {
+    pub(super) fn new(pos: &[V3], faces: &[[u32; 3]], owner: &[u32]) -> Index {
         let (runs, boxes) = run_boxes(pos, faces, owner);
         let bvh = Bvh::new(boxes);
         Index { runs, bvh }
@@ -79,13 +79,14 @@ impl Index {
     /// the faces of boxes that miss a query, and tests the others one by
     /// one). The refit took 32 ms on the million-sample tree's 4.1 million
     /// runs where a new index took 2.0 s.
-    fn follow(&mut self, pos: &mut [P3], moved: &[u32], places: &[[f32; 3]]) {
+    fn follow(&mut self, pos: &mut [V3], moved: &[u32], places: &[V3]) {
         let mut grown: Vec<(u32, P3)> = Vec::new();
-        for (&v, place) in moved.iter().zip(places) {
-            let (old, new) = (pos[v as usize], place.map(f64::from));
-            let at = Aabb { lo: old, hi: old };
-            self.bvh.for_each_containing(&at, |i| grown.push((i, new)));
-            pos[v as usize] = new;
+        for (&v, &place) in moved.iter().zip(places) {
+            let (old, new) = (at(pos, v), place.map(f64::from));
+            let here = Aabb { lo: old, hi: old };
+            self.bvh
+                .for_each_containing(&here, |i| grown.push((i, new)));
+            pos[v as usize] = place;
         }
         for (i, p) in grown {
             self.bvh.grow_item(i, p);
@@ -101,7 +102,7 @@ impl Index {
 pub(super) fn cut_with_nudges(
     mesh: &Mesh,
     owner: &[u32],
-    pos: &mut [P3],
+    pos: &mut [V3],
     index: &mut Index,
     pairs: Vec<[u32; 2]>,
     round: usize,
@@ -135,7 +136,7 @@ pub(super) fn cut_with_nudges(
         let places = nudged(
             &mesh.faces,
             pos.len(),
-            |k| pos[k as usize].map(|x| x as f32),
+            |k| pos[k as usize],
             &moved,
             (1 << 16) | ((round as u64) << 8) | phase as u64,
         );
@@ -147,7 +148,7 @@ pub(super) fn cut_with_nudges(
 
 /// The cut of one cluster.
 #[cfg(test)]
-pub(super) fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
+pub(super) fn cut_one(pos: &[V3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> Built {
     cut_remembering(pos, faces, cluster, &Memo::default()).0
 }
 
@@ -155,7 +156,7 @@ pub(super) fn cut_one(pos: &[P3], faces: &[[u32; 3]], cluster: &[[u32; 2]]) -> B
 /// where they are the same, and what a large cluster's faces gave if its
 /// cut is refused.
 fn cut_remembering(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     cluster: &[[u32; 2]],
     reuse: &Memo,
@@ -175,7 +176,7 @@ fn cut_remembering(
 /// The cuts of `clusters` ([`cut_remembering`]), and what the refused ones
 /// remember, together.
 fn cut_all(
-    pos: &[P3],
+    pos: &[V3],
     faces: &[[u32; 3]],
     clusters: &[impl AsRef<[[u32; 2]]> + Sync],
     reuse: &Memo,
@@ -201,16 +202,16 @@ fn cut_all(
 fn cut_again(
     mesh: &Mesh,
     owner: &[u32],
-    pos: &[P3],
+    pos: &[V3],
     index: &Index,
     before: Cut,
     moved: &[u32],
 ) -> Cut {
-    let mut at = vec![false; pos.len()];
+    let mut marked = vec![false; pos.len()];
     for &v in moved {
-        at[v as usize] = true;
+        marked[v as usize] = true;
     }
-    let touches = |f: u32| mesh.faces[f as usize].iter().any(|&k| at[k as usize]);
+    let touches = |f: u32| mesh.faces[f as usize].iter().any(|&k| marked[k as usize]);
     let mut pairs: Vec<[u32; 2]> = before
         .pairs
         .iter()
