@@ -1,7 +1,7 @@
 //! The proof that a try of the overlap pass is sound (step 4 of
-//! [`crate::overlap`]): the kept faces close up along every cut, and once
-//! rounded to the f32 output no kept piece of a cut face crosses another
-//! piece or a face left as it was.
+//! [`crate::overlap`]): the kept faces close up along every cut, and in the
+//! f32 output (the cut rounds its new vertices at once) no kept piece of a
+//! cut face crosses another piece or a face left as it was.
 //!
 //! A try whose proof fails leaves the clusters at fault uncut, and the next
 //! try is proven again. On a fly larva neuron with 78,301 crossing pairs a
@@ -53,7 +53,7 @@ impl Proven {
 
 /// Checks the kept faces around the new vertices: every edge there shared by
 /// two kept faces in opposite directions, one fan per vertex, no sliver, and,
-/// once rounded to f32, no two kept pieces crossing each other and no kept
+/// in f32, no two kept pieces crossing each other and no kept
 /// piece crossing an old face outside the clusters (of whatever part: a piece
 /// of a tube that crosses a face of its own tube is caught here too). On
 /// failure, the old faces at fault (`origin_of` names the old face of a

@@ -48,7 +48,7 @@ mod pairs;
 mod patches;
 mod settle;
 
-use crate::geom::V3;
+use crate::geom::{self, V3};
 use crate::mesh::Mesh;
 use boundary::union;
 use pairs::{crossing_pairs, crossing_pairs_at};
@@ -251,30 +251,22 @@ fn vertices_of(faces: &[[u32; 3]], which: &[u32]) -> Vec<u32> {
 /// times its shortest edge (at least a few f32 steps), the same for every
 /// run: general position for contacts that f32 coordinates made degenerate.
 fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
-    let at = |k: u32| mesh.vertices[k as usize];
-    let places = nudged(&mesh.faces, mesh.vertices.len(), at, vertices, round);
+    let places = nudged(&mesh.faces, &mesh.vertices, vertices, round);
     for (&v, p) in vertices.iter().zip(places) {
         mesh.vertices[v as usize] = p;
     }
 }
 
-/// Where [`nudge`] moves each of `vertices` (sorted, once each), given the
-/// place `at(k)` of every vertex `k` of `faces` (`n_vertices` of them). A
-/// round keeps its vertices only in f64 (`at` rounds them back, exactly),
-/// so it nudges through this and moves them itself.
-fn nudged(
-    faces: &[[u32; 3]],
-    n_vertices: usize,
-    at: impl Fn(u32) -> [f32; 3],
-    vertices: &[u32],
-    round: u64,
-) -> Vec<[f32; 3]> {
+/// Where [`nudge`] moves each of `vertices` (sorted, once each) of `faces`
+/// with vertices `pos`. A round holds its vertices apart from the mesh
+/// (see `resolve_once`), so it nudges through this and moves them itself.
+fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V3> {
     // Only the edges at a nudged vertex are measured: a few hundred of a
     // million (the lengths of them all took 5 % of a small cell's meshing).
     // The nudged vertices are marked in a bit set and their shortest edges
     // kept in a map: an f64 per vertex was 264 MB of fresh pages per nudge
     // on the million-sample tree.
-    let marked = crate::bits::Bits::of(n_vertices, vertices.iter().copied());
+    let marked = crate::bits::Bits::of(pos.len(), vertices.iter().copied());
     let is_marked = |k: u32| marked.has(k);
     let mut shortest: crate::hash::FastMap<u32, f64> =
         vertices.iter().map(|&v| (v, f64::INFINITY)).collect();
@@ -287,7 +279,7 @@ fn nudged(
             if !is_marked(a) && !is_marked(b) {
                 continue;
             }
-            let d = crate::mesh::sub(at(a).map(f64::from), at(b).map(f64::from));
+            let d = crate::mesh::sub(geom::at(pos, a), geom::at(pos, b));
             let l = crate::mesh::dot(d, d).sqrt();
             for k in [a, b] {
                 if let Some(s) = shortest.get_mut(&k) {
@@ -299,7 +291,7 @@ fn nudged(
     vertices
         .iter()
         .map(|&v| {
-            let mut p = at(v);
+            let mut p = pos[v as usize];
             let scale = p.iter().fold(0f32, |m, x| m.max(x.abs()));
             let step = 8.0 * f64::from(scale.max(f32::MIN_POSITIVE)) * f64::from(f32::EPSILON);
             let amp = (NUDGE * shortest[&v]).max(step);

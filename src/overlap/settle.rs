@@ -135,8 +135,7 @@ pub(super) fn cut_with_nudges(
         // The round holds its vertices in `pos` alone (see `resolve_once`).
         let places = nudged(
             &mesh.faces,
-            pos.len(),
-            |k| pos[k as usize],
+            pos,
             &moved,
             (1 << 16) | ((round as u64) << 8) | phase as u64,
         );
