@@ -117,6 +117,13 @@ impl Track {
         keep_only(&mut t.counts, &keep);
         keep_only(&mut t.radii, &keep);
         keep_only(&mut t.arc, &keep);
+        // Without the room of the points dropped: a million-sample tree's
+        // tracks held 0.38 GB for 0.29 GB of points.
+        t.samples.shrink_to_fit();
+        t.frames.shrink_to_fit();
+        t.counts.shrink_to_fit();
+        t.radii.shrink_to_fit();
+        t.arc.shrink_to_fit();
         // Original points always keep their contours: map them again.
         t.originals = originals_of(&t.samples, t.originals.len());
         t
