@@ -30,9 +30,10 @@ pub(super) struct Built {
 /// The union's boundary where it could be built.
 ///
 /// Works in `mesh`'s face list and `pos` (the old faces and vertices stay
-/// first, the pieces and new vertices go after them) rather than in copies;
-/// `pos` becomes `mesh`'s vertices, and on failure `mesh` is left as it was. The round's `index` is dropped
-/// before the assembly, the pass's peak.
+/// first, the pieces and new vertices go after them) rather than in copies.
+/// `pos` (the mesh's vertices, taken by the round) becomes `mesh`'s
+/// vertices again, compacted; on failure `mesh` is left as it was. The
+/// round's `index` is dropped before the assembly, the pass's peak.
 pub(super) fn union(
     mesh: &mut Mesh,
     owner: &[u32],
@@ -79,9 +80,9 @@ pub(super) fn union(
     let mut new_cluster: Vec<u32> = Vec::new();
     let mut cut_edges: FastSet<(u32, u32)> = FastSet::default();
     let mut faces: Vec<[u32; 3]> = std::mem::take(&mut mesh.faces);
-    // Until the assembly the old vertices are `pos` alone (their f32 copy
-    // went at the round's start, see `resolve_once`); the assembly makes
-    // them again from what is kept.
+    // Until the assembly the vertices are `pos` alone (the round took them
+    // from the mesh, see `resolve_once`); the assembly compacts them to what
+    // is kept and hands them back.
     debug_assert!(
         mesh.vertices.is_empty(),
         "the round holds its vertices in pos"
