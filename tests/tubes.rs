@@ -323,3 +323,39 @@ fn long_runs_between_sharp_steps_stay_on_the_union_of_round_cones() {
         "area {da:+.4}, volume {dv:+.4} of the union's"
     );
 }
+
+#[test]
+fn a_built_stage_keeps_the_first_rings_of_each_piece() {
+    // A helix: it bends everywhere, so no stretch is thinned out, and its
+    // tube has far more contours than a stage keeps.
+    let points: Vec<[f64; 3]> = (0..400)
+        .map(|i| {
+            let t = f64::from(i) * 0.2;
+            [10.0 * t.cos(), 10.0 * t.sin(), 0.8 * t]
+        })
+        .collect();
+    let m = path(&points, &vec![0.5; points.len()]);
+    let stage = build_tubes(&m, &Params::default()).expect("tubes");
+    let kept = neuromesh::tube::KEPT_RINGS;
+    let tris = &stage.surface.tris;
+    // The bands are all kept: one per contour the piece was built with.
+    assert!(
+        stage.tubes.iter().any(|t| t.bands.len() > kept),
+        "a piece longer than the rings kept"
+    );
+    for t in &stage.tubes {
+        assert!(t.rings.len() <= kept && !t.rings.is_empty());
+        // The rings kept are the first: band i joins ring i to ring i + 1.
+        for (i, pair) in t.rings.windows(2).enumerate() {
+            let on = |k: u32, r: &neuromesh::tube::Ring| (r.first..r.first + r.m).contains(&k);
+            for f in t.bands[i]..t.bands[i + 1] {
+                let face = tris[f as usize];
+                assert!(
+                    face.iter().all(|&k| on(k, &pair[0]) || on(k, &pair[1])),
+                    "band {i} of a piece joins its rings {i} and {}",
+                    i + 1
+                );
+            }
+        }
+    }
+}
