@@ -50,18 +50,7 @@ pub fn thread_count(threads: Option<usize>) -> crate::Result<usize> {
 
 /// `items.iter().map(f).collect()`, in parallel when available, order kept.
 pub fn map<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> Vec<U> {
-    map_with_room(items, 0, f)
-}
-
-/// [`map`] into a vector with room for `room` more items, so a caller that
-/// appends a few does not copy the whole of it to grow it (the room is
-/// address space only until it is used).
-pub fn map_with_room<T: Sync, U: Send>(
-    items: &[T],
-    room: usize,
-    f: impl Fn(&T) -> U + Sync + Send,
-) -> Vec<U> {
-    let mut out = Vec::with_capacity(items.len() + room);
+    let mut out = Vec::with_capacity(items.len());
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;
@@ -97,9 +86,8 @@ mod tests {
         let one = with_threads(Some(1), || map(&items, |x| x * 2)).unwrap();
         let many = with_threads(Some(4), || map(&items, |x| x * 2)).unwrap();
         assert_eq!(one, many);
-        let roomy = with_threads(Some(2), || map_with_room(&items, 100, |x| x * 2)).unwrap();
-        assert_eq!(roomy, one);
-        assert!(roomy.capacity() >= items.len() + 100);
+        let two = with_threads(Some(2), || map(&items, |x| x * 2)).unwrap();
+        assert_eq!(two, one);
         let fm = with_threads(Some(3), || flat_map_range(100, |i| vec![i; i % 3])).unwrap();
         let serial: Vec<usize> = (0..100).flat_map(|i| vec![i; i % 3]).collect();
         assert_eq!(fm, serial);

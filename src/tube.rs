@@ -70,8 +70,9 @@ impl Ring {
 /// How many of a tube's first contours the pipeline keeps once the tube is
 /// built ([`Tube::rings`]): splicing tries its C_1sec among them and the
 /// somas join the first. The others are let go, because nothing after the
-/// tube reads them and a million-sample tree's 4.8 million rings took
-/// 0.5 GB that stayed resident through the overlap pass.
+/// tube reads them, and a million-sample tree's 2.7 million rings (0.3 GB,
+/// in small blocks grown by doubling) stayed resident through the overlap
+/// pass.
 pub const KEPT_RINGS: usize = 40;
 
 /// A closed or open tube along one piece of a branch.
