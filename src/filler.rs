@@ -105,8 +105,9 @@ pub const MIN_TOTAL_GAIN: f64 = 0.005;
 pub fn span(track: &Track, start: Option<usize>, cones: &[Cone]) -> Option<(usize, usize, f64)> {
     let end = start.unwrap_or(track.samples.len());
     // The branch point's own contour (point 0) is taken as inside.
+    let mut hint = None;
     let outside: Vec<f64> = (1..end)
-        .map(|i| fraction_outside(track, i, cones))
+        .map(|i| fraction_outside(track, i, cones, &mut hint))
         .collect();
     let first = 1 + outside.iter().position(|&f| f > 0.0)?;
     let gain = slices(track, first, end, |i| outside[i - 1]);
@@ -262,8 +263,9 @@ pub fn segment_gains(
 ) -> Vec<(u32, f64)> {
     let last = track.originals.len().saturating_sub(2);
     let mut out: Vec<(u32, f64)> = Vec::new();
+    let mut hint = None;
     for i in points {
-        let w = fraction_outside(track, i, cones);
+        let w = fraction_outside(track, i, cones, &mut hint);
         if w <= 0.0 {
             continue;
         }
