@@ -348,8 +348,7 @@ fn connect_by_pseudo_angles(
     let mut prev = a0 + ((pseudo_angle(xb, yb) - a0 + half).rem_euclid(TURN) - half);
     t.push(prev);
     for k in 1..mb {
-        let k = start_b + k;
-        let (x, y) = plane(b[if k >= mb { k - mb } else { k }], cb);
+        let (x, y) = plane(b[wrapped(start_b + k, mb)], cb);
         // Unwrapped from b's start, as the general path does.
         let u = t[ma] + within_turn(pseudo_angle(x, y) - t[ma], TURN);
         if u <= prev {
@@ -361,6 +360,13 @@ fn connect_by_pseudo_angles(
     let (ta, tb) = t.split_at(ma);
     merge_loops(surface, a, ta, b, start_b, tb, TURN);
     true
+}
+
+/// `k % m` for `k < 2 m`, by a comparison: a division per index was a
+/// visible share of a band's cost, which is a triangle per step.
+#[inline]
+fn wrapped(k: usize, m: usize) -> usize {
+    if k >= m { k - m } else { k }
 }
 
 /// `x.rem_euclid(turn)`, bit for bit, without the division where `x` is
@@ -423,12 +429,9 @@ fn merge_loops(
     turn: f64,
 ) {
     let (ma, mb) = (a.len(), b.len());
-    // Indices wrap by a comparison, not `%`: a division per index was a
-    // visible share of the band's cost, which is a triangle per step.
-    let wrap = |k: usize, m: usize| if k >= m { k - m } else { k };
     let b_start = b_start % mb.max(1);
     // Vertex k (0 ≤ k ≤ mb) of `b` read from `b_start`.
-    let b_at = |k: usize| b[wrap(b_start + wrap(k, mb), mb)];
+    let b_at = |k: usize| b[wrapped(b_start + wrapped(k, mb), mb)];
     let next = |t: &[f64], k: usize| if k < t.len() { t[k] } else { t[0] + turn };
     let (mut i, mut j) = (0usize, 0usize);
     while i < ma || j < mb {
@@ -440,10 +443,10 @@ fn merge_loops(
             next(tb, j + 1) < next(ta, i + 1)
         };
         if advance_b {
-            surface.triangle(a[wrap(i, ma)], b_at(j + 1), b_at(j));
+            surface.triangle(a[wrapped(i, ma)], b_at(j + 1), b_at(j));
             j += 1;
         } else {
-            surface.triangle(a[wrap(i, ma)], a[wrap(i + 1, ma)], b_at(j));
+            surface.triangle(a[wrapped(i, ma)], a[wrapped(i + 1, ma)], b_at(j));
             i += 1;
         }
     }

@@ -31,11 +31,8 @@ pub fn first_outside_from(
     cones: &[(DVec3, DVec3, f64, f64)],
 ) -> Option<usize> {
     let mut ring: Vec<DVec3> = Vec::new();
-    // The cone that touched the last contour is asked first: inside a
-    // primary (or a blob of radius codes, where every cone reaches every
-    // contour) consecutive contours touch the same cone, and the answer does
-    // not depend on the order the cones are asked in.
-    let mut last_hit = 0;
+    // The cone that touched the last contour is asked first.
+    let mut hint = None;
     (from..track.samples.len()).find(|&i| {
         let s = &track.samples[i];
         let r = track.radii[i];
@@ -58,17 +55,32 @@ pub fn first_outside_from(
             ring.iter().any(|&p| inside_cone(p, a, b, ra, rb, margin))
                 || axis_crosses_disc(a, b, ra.max(rb), s.pos, s.tangent, r)
         };
-        if cones.get(last_hit).is_some_and(touches) {
-            return false;
-        }
-        match cones.iter().position(touches) {
-            Some(k) => {
-                last_hit = k;
-                false
-            }
-            None => true,
-        }
+        !any_hinted(&mut hint, || cones, touches)
     })
+}
+
+/// Whether one of the cones `cones()` gives passes `test`, asking `hint`
+/// first (one of those cones, or none) and making the one that passes the
+/// hint. Inside a primary (or a blob of radius codes, where every cone
+/// reaches every contour) neighbouring vertices and contours lie in the
+/// same cone, so a test costs one cone instead of all; the answer does not
+/// depend on the order the cones are asked in. `cones` is called only when
+/// the hint fails, so a caller can build the list lazily.
+fn any_hinted<'c>(
+    hint: &mut Option<Cone>,
+    cones: impl FnOnce() -> &'c [Cone],
+    test: impl Fn(&Cone) -> bool,
+) -> bool {
+    if hint.as_ref().is_some_and(&test) {
+        return true;
+    }
+    match cones().iter().find(|c| test(c)) {
+        Some(&c) => {
+            *hint = Some(c);
+            true
+        }
+        None => false,
+    }
 }
 
 /// Whether cone `c` can hold a point within `r` of `p`: its axis comes
@@ -81,42 +93,38 @@ fn may_reach(p: DVec3, r: f64, (a, b, ra, rb): Cone) -> bool {
 /// The fraction of the vertices of the contour of track point `i` that lie
 /// outside every one of `cones` (with their linear radius).
 ///
-/// `hint` is a cone that held a vertex of an earlier contour: it is asked
-/// first, and replaced by the cone that holds a vertex it does not. Inside a
-/// primary (or a blob of radius codes, where every cone reaches every
-/// contour) neighbouring vertices and contours lie in the same cone, and a
-/// vertex costs one test instead of one per cone. The fraction does not
-/// depend on the hint: it is asked only where it may reach the contour,
-/// which makes it one of the cones the vertices are tested against.
+/// `hint` is a cone that held a vertex of an earlier contour, asked first
+/// ([`any_hinted`]). The fraction does not depend on it: it is asked only
+/// where it may reach the contour, which makes it one of the cones the
+/// vertices are tested against.
 pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone], hint: &mut Option<Cone>) -> f64 {
     let s = &track.samples[i];
     let m = track.counts[i];
     let r = track.radii[i];
-    let hinted = hint.filter(|&c| may_reach(s.pos, r, c));
+    let mut held = hint.filter(|&c| may_reach(s.pos, r, c));
     // The cones that cannot hold a point of the contour are left out once,
     // not once per vertex, and only if a vertex is not in the hinted cone.
     let mut reach: Option<Vec<Cone>> = None;
-    let mut held = hinted;
     let outside = crate::contour::ring(s.pos, s.tangent, track.frames[i], r, m)
         .filter(|&p| {
-            let holds = |&(a, b, ra, rb): &Cone| inside_cone(p, a, b, ra, rb, 0.0);
-            if held.as_ref().is_some_and(holds) {
-                return false;
-            }
-            let reach = reach.get_or_insert_with(|| {
-                cones
-                    .iter()
-                    .copied()
-                    .filter(|&c| may_reach(s.pos, r, c))
-                    .collect()
-            });
-            match reach.iter().find(|c| holds(c)) {
-                Some(&c) => {
-                    held = Some(c);
-                    false
-                }
-                None => true,
-            }
+            let reach = &mut reach;
+            let reach = move || {
+                // Moved out of the closure (not reborrowed), so the list
+                // outlives the call.
+                let reach = reach;
+                reach
+                    .get_or_insert_with(|| {
+                        cones
+                            .iter()
+                            .copied()
+                            .filter(|&c| may_reach(s.pos, r, c))
+                            .collect()
+                    })
+                    .as_slice()
+            };
+            !any_hinted(&mut held, reach, |&(a, b, ra, rb)| {
+                inside_cone(p, a, b, ra, rb, 0.0)
+            })
         })
         .count();
     if held.is_some() {
