@@ -94,7 +94,9 @@ fn may_reach(p: DVec3, r: f64, (a, b, ra, rb): Cone) -> bool {
 /// outside every one of `cones` (with their linear radius).
 ///
 /// `hint` is a cone that held a vertex of an earlier contour, asked first
-/// ([`any_hinted`]). The fraction does not depend on it: it is asked only
+/// (inside a primary, neighbouring contours lie in the same cone, so a
+/// vertex costs one test instead of one per cone). The fraction does not
+/// depend on it: it is asked only
 /// where it may reach the contour, which makes it one of the cones the
 /// vertices are tested against.
 pub fn fraction_outside(track: &Track, i: usize, cones: &[Cone], hint: &mut Option<Cone>) -> f64 {
