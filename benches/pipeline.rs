@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use neuromesh::{Mesh, Morphology, Params, mesher};
+use neuromesh::{Mesh, Morphology, Params, pipeline as mesher};
 
 /// Real files from the test corpus: small, median, a big Purkinje cell, and
 /// the largest.
@@ -64,7 +64,8 @@ fn stages(c: &mut Criterion) {
         g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &bytes, |b, bytes| {
             b.iter(|| {
-                let f = neuromesh::swc::SwcFile::parse(black_box(bytes), name).expect("valid");
+                let f =
+                    neuromesh::input::swc::SwcFile::parse(black_box(bytes), name).expect("valid");
                 Morphology::from_file(f).expect("valid")
             })
         });
@@ -76,9 +77,14 @@ fn stages(c: &mut Criterion) {
         g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), m, |b, m| {
             b.iter(|| {
-                let geometry = mesher::Geometry::new(m, &params);
-                let branches = neuromesh::branch::identify(m, params.angle_threshold);
-                mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP)
+                let geometry = neuromesh::skeleton::geometry::Geometry::new(m, &params);
+                let branches = neuromesh::skeleton::branch::identify(m, params.angle_threshold);
+                neuromesh::skeleton::tracks(
+                    &geometry,
+                    &branches,
+                    &params,
+                    neuromesh::skeleton::track::SWEEP_CAP,
+                )
             })
         });
     }

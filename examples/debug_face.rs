@@ -7,7 +7,7 @@ fn main() {
     let faces: Vec<u32> = args.map(|a| a.parse().expect("face index")).collect();
     let m = neuromesh::Morphology::from_swc(&path).expect("swc");
     let (surface, branches, tubes, _) =
-        neuromesh::mesher::build(&m, &neuromesh::Params::default()).expect("build");
+        neuromesh::pipeline::build(&m, &neuromesh::Params::default()).expect("build");
     for f in faces {
         for (ti, t) in tubes.iter().enumerate() {
             let where_ = if t.start_cap.contains(&f) {

@@ -4,8 +4,8 @@ fn main() {
     let m = neuromesh::Morphology::from_swc(&path).expect("swc");
     let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
     let view = mesh.view();
-    let comp = neuromesh::check::face_components(&view);
-    let pairs = neuromesh::check::self_intersections(&view);
+    let comp = neuromesh::kernel::disjoint_sets::face_components(view.faces, view.vertices.len());
+    let pairs = neuromesh::measure::check::self_intersections(&view);
     let mut shown = 0;
     for p in pairs
         .iter()
@@ -15,8 +15,8 @@ fn main() {
         let fb = mesh.faces[p[1] as usize];
         let la: Vec<u32> = fa.iter().map(|&k| mesh.vertex_sample[k as usize]).collect();
         let lb: Vec<u32> = fb.iter().map(|&k| mesh.vertex_sample[k as usize]).collect();
-        let depth = neuromesh::check::tree_depths(&m);
-        let sk = neuromesh::check::is_skeleton_overlap(&view, &m, &depth, *p);
+        let depth = neuromesh::measure::check::tree_depths(&m);
+        let sk = neuromesh::measure::check::is_skeleton_overlap(&view, &m, &depth, *p);
         if sk && std::env::var_os("SHOW_SKELETON").is_none() {
             continue;
         }

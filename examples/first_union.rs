@@ -7,7 +7,7 @@ fn main() {
     let params = neuromesh::Params::default();
     for path in std::env::args().skip(1) {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
-        let stage = neuromesh::mesher::construct(&m, &params).expect("stage");
+        let stage = neuromesh::pipeline::construct(&m, &params).expect("stage");
         let (mut mesh, owner) = stage
             .surface
             .into_mesh_with(stage.stats.clone(), stage.owner.clone());

@@ -3,10 +3,10 @@ fn main() {
     let path = std::env::args().nth(1).expect("swc");
     let m = neuromesh::Morphology::from_swc(&path).expect("swc");
     let params = neuromesh::Params::default();
-    let mut stage = neuromesh::mesher::build_tubes(&m, &params).expect("tubes");
-    neuromesh::mesher::build_somas(&mut stage);
-    neuromesh::mesher::splice_all(&mut stage, &params);
-    neuromesh::mesher::build_fillers(&mut stage, &params);
+    let mut stage = neuromesh::pipeline::build_tubes(&m, &params).expect("tubes");
+    neuromesh::pipeline::build_somas(&mut stage);
+    neuromesh::pipeline::splice_all(&mut stage, &params);
+    neuromesh::pipeline::build_fillers(&mut stage, &params);
     let fp = stage.filler_parts;
     let filler_of_part = stage.filler_of_part.clone();
     let fillers = stage.fillers.clone();
@@ -15,7 +15,7 @@ fn main() {
     let (mut mesh, owner) = stage
         .surface
         .into_mesh_with(stage.stats.clone(), stage.owner.clone());
-    let before = neuromesh::check::self_intersections(&mesh.view());
+    let before = neuromesh::measure::check::self_intersections(&mesh.view());
     let same: usize = before
         .iter()
         .filter(|p| owner[p[0] as usize] == owner[p[1] as usize])
@@ -99,7 +99,7 @@ fn main() {
     }
     let r = neuromesh::overlap::resolve_with_owner(&mut mesh, &owner);
     println!("{:?}", r.outcome);
-    let after = neuromesh::check::self_intersections(&mesh.view());
+    let after = neuromesh::measure::check::self_intersections(&mesh.view());
     println!("after: {} pairs", after.len());
     for p in after.iter().take(8) {
         println!(

@@ -6,7 +6,7 @@ fn main() {
     let m = neuromesh::Morphology::from_swc(&a[1]).expect("swc");
     let b: u32 = a[2].parse().expect("branch");
     let (_, _, tubes, _) =
-        neuromesh::mesher::build(&m, &neuromesh::Params::default()).expect("build");
+        neuromesh::pipeline::build(&m, &neuromesh::Params::default()).expect("build");
     for t in tubes.iter().filter(|t| t.branch == b) {
         let r: Vec<u32> = t.rings.iter().map(|r| r.resampled).collect();
         println!("piece: {r:?}");

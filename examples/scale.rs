@@ -21,10 +21,14 @@ fn main() {
     let n: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(10_000);
     let seed: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(1);
     let path = std::env::temp_dir().join(format!("neuromesh-random-{n}-{seed}.swc"));
-    std::fs::write(&path, neuromesh::synthetic::random_neuron_swc(n, seed)).expect("write");
+    std::fs::write(
+        &path,
+        neuromesh::input::synthetic::random_neuron_swc(n, seed),
+    )
+    .expect("write");
     let before = peak_rss_mb();
     let start = Instant::now();
-    let mesh = neuromesh::parallel::with_threads(Some(1), || {
+    let mesh = neuromesh::kernel::parallel::with_threads(Some(1), || {
         neuromesh::mesh_swc(&path, &neuromesh::Params::default())
     })
     .expect("pool")

@@ -8,8 +8,7 @@
 //!
 //! `cargo run --release --example surface_offsets -- FILE.swc...`
 use glam::DVec3;
-use neuromesh::bvh::{Aabb, Bvh};
-use neuromesh::union::labelled_primitives;
+use neuromesh::kernel::bvh::{Aabb, Bvh};
 
 /// Bucket edges, in radii of the nearest primitive.
 const EDGES: [f64; 8] = [-0.5, -0.2, -0.1, -0.03, 0.03, 0.1, 0.2, 0.5];
@@ -18,7 +17,7 @@ fn main() {
     for path in std::env::args().skip(1) {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
-        let (cones, labels): (Vec<_>, Vec<u32>) = labelled_primitives(&m).unzip();
+        let (cones, labels): (Vec<_>, Vec<u32>) = m.labelled_round_cones().unzip();
         let mut far_out = vec![0.0; cones.len()];
         let reach = cones.iter().map(|c| c.ra.max(c.rb)).fold(0.0, f64::max);
         // Each cone's box grown by the largest radius: enough to find the

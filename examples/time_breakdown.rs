@@ -19,15 +19,15 @@ fn main() {
             };
             let m = neuromesh::Morphology::from_swc(&path).expect("swc");
             lap(0, &mut best);
-            let mut stage = neuromesh::mesher::build_tubes(&m, &p).expect("tubes");
+            let mut stage = neuromesh::pipeline::build_tubes(&m, &p).expect("tubes");
             lap(1, &mut best);
-            neuromesh::mesher::build_somas(&mut stage);
+            neuromesh::pipeline::build_somas(&mut stage);
             lap(2, &mut best);
-            neuromesh::mesher::splice_all(&mut stage, &p);
+            neuromesh::pipeline::splice_all(&mut stage, &p);
             lap(3, &mut best);
-            neuromesh::mesher::build_fillers(&mut stage, &p);
+            neuromesh::pipeline::build_fillers(&mut stage, &p);
             lap(4, &mut best);
-            let mesh = neuromesh::mesher::unite(&m, &p, stage).expect("mesh");
+            let mesh = neuromesh::pipeline::unite(&m, &p, stage).expect("mesh");
             lap(5, &mut best);
             tris = mesh.faces.len();
         }

@@ -16,10 +16,10 @@ fn main() {
                 .fold(f64::INFINITY, f64::min)
         };
         let tubes = best(&|| {
-            neuromesh::mesher::build_tubes(&m, &p).expect("tubes");
+            neuromesh::pipeline::build_tubes(&m, &p).expect("tubes");
         });
         let all = best(&|| {
-            neuromesh::mesher::build(&m, &p).expect("build");
+            neuromesh::pipeline::build(&m, &p).expect("build");
         });
         println!(
             "{path}: tubes {:.1} ms, whole build {:.1} ms, soma + splicing {:.0} %",

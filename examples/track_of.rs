@@ -6,10 +6,14 @@ fn main() {
     let id: i64 = a[2].parse().expect("id");
     let params = neuromesh::Params::default();
     let k = m.ids().iter().position(|&i| i == id).expect("id") as u32;
-    let branches = neuromesh::branch::identify(&m, params.angle_threshold);
-    let geometry = neuromesh::mesher::Geometry::new(&m, &params);
-    let tracks =
-        neuromesh::mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP);
+    let branches = neuromesh::skeleton::branch::identify(&m, params.angle_threshold);
+    let geometry = neuromesh::skeleton::geometry::Geometry::new(&m, &params);
+    let tracks = neuromesh::skeleton::tracks(
+        &geometry,
+        &branches,
+        &params,
+        neuromesh::skeleton::track::SWEEP_CAP,
+    );
     for (bi, b) in branches.iter().enumerate() {
         if !b.samples[1..].contains(&k) {
             continue;

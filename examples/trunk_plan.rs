@@ -7,11 +7,15 @@ fn main() {
     let path = std::env::args().nth(1).expect("swc");
     let m = neuromesh::Morphology::from_swc(&path).expect("swc");
     let params = neuromesh::Params::default();
-    let branches = neuromesh::branch::identify(&m, params.angle_threshold);
-    let geometry = neuromesh::mesher::Geometry::new(&m, &params);
-    let tracks =
-        neuromesh::mesher::tracks(&geometry, &branches, &params, neuromesh::track::SWEEP_CAP);
-    let starts = neuromesh::starts::plan(&m, &geometry, &branches, &tracks, &params);
+    let branches = neuromesh::skeleton::branch::identify(&m, params.angle_threshold);
+    let geometry = neuromesh::skeleton::geometry::Geometry::new(&m, &params);
+    let tracks = neuromesh::skeleton::tracks(
+        &geometry,
+        &branches,
+        &params,
+        neuromesh::skeleton::track::SWEEP_CAP,
+    );
+    let starts = neuromesh::build::plan::plan(&m, &geometry, &branches, &tracks, &params);
     for plan in &starts.somas {
         let c = plan.sphere.center;
         println!(
@@ -19,7 +23,10 @@ fn main() {
             plan.sphere.radius, plan.spacing
         );
         for (i, b) in branches.iter().enumerate() {
-            if !matches!(b.attachment, neuromesh::branch::Attachment::Soma { .. }) {
+            if !matches!(
+                b.attachment,
+                neuromesh::skeleton::branch::Attachment::Soma { .. }
+            ) {
                 continue;
             }
             let t = &tracks[i];

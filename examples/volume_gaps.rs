@@ -11,9 +11,9 @@
 //!
 //! `cargo run --release --example volume_gaps -- FILE.swc [TOP] [--extra]`
 use glam::DVec3;
-use neuromesh::bvh::{Aabb, Bvh};
+use neuromesh::kernel::bvh::{Aabb, Bvh};
+use neuromesh::kernel::round_cone::RoundCone;
 use neuromesh::mesh::Mesh;
-use neuromesh::union::{RoundCone, skeleton_primitives};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -52,7 +52,8 @@ impl Probe {
         let (o, dir) = (p.to_array(), [0.573_21, 0.611_17, 0.545_43]);
         let mut n = 0;
         self.bvh.for_each_on_ray(o, dir, f64::INFINITY, |i| {
-            if neuromesh::geom::ray_triangle(o, dir, self.tris[i as usize]).is_some() {
+            if neuromesh::kernel::predicates::ray_triangle(o, dir, self.tris[i as usize]).is_some()
+            {
                 n += 1;
             }
         });
@@ -81,7 +82,7 @@ fn point_in(b: &Aabb, rnd: &mut impl FnMut() -> f64) -> DVec3 {
 
 fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
     let tris = &probe.tris;
-    let cones = skeleton_primitives(m);
+    let cones = m.round_cones();
     let boxes: Vec<Aabb> = cones.iter().map(|c| aabb(c, 1.0)).collect();
     let cone_bvh = Bvh::new(boxes.clone());
     let mut rnd = uniform(0x1234_5678_9abc_def1);
@@ -98,7 +99,7 @@ fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
             .find(|&k| DVec3::from_array(pos[k]) == c.b && parents[k] != u32::MAX)
             .map(|k| lines[k])
     };
-    // The nodes at the ends of each primitive, in skeleton_primitives' order.
+    // The nodes at the ends of each primitive, in Morphology::round_cones' order.
     let soma = m.soma_mask();
     let mut ends: Vec<[usize; 2]> = Vec::new();
     for t in m.trees() {
@@ -172,7 +173,8 @@ fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
                         .iter()
                         .map(|t| {
                             let t = t.map(DVec3::from_array);
-                            neuromesh::geom::closest_point_on_triangle(p, t).distance(p)
+                            neuromesh::kernel::predicates::closest_point_on_triangle(p, t)
+                                .distance(p)
                         })
                         .fold(f64::INFINITY, f64::min);
                     println!("  miss t {t:+.3} radial {radial:.3} depth {depth:.3}");
@@ -261,7 +263,7 @@ fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
 }
 
 fn outside_the_union(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
-    let cones = skeleton_primitives(m);
+    let cones = m.round_cones();
     let grown: Vec<Aabb> = cones.iter().map(|c| aabb(c, 2.0)).collect();
     let exact: Vec<Aabb> = cones.iter().map(|c| aabb(c, 1.0)).collect();
     let grown_bvh = Bvh::new(grown.clone());

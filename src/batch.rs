@@ -44,7 +44,7 @@ pub fn run<T: Send>(
     job: impl Fn(&Path) -> Result<T> + Sync + Send,
     progress: impl Fn(usize, &Outcome<T>) + Sync + Send,
 ) -> Result<Vec<Outcome<T>>> {
-    let threads = crate::parallel::thread_count(threads)?;
+    let threads = crate::kernel::parallel::thread_count(threads)?;
     let workers = if cfg!(feature = "parallel") {
         threads.min(inputs.len()).max(1)
     } else {
@@ -71,7 +71,7 @@ pub fn run<T: Send>(
                 .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(outcome);
         }
     };
-    let worker = || crate::parallel::with_threads(Some(inner), work);
+    let worker = || crate::kernel::parallel::with_threads(Some(inner), work);
     if workers == 1 {
         worker()?;
     } else {

@@ -18,52 +18,24 @@
 #![forbid(unsafe_code)]
 
 pub mod batch;
-mod bits;
-pub mod blob;
-pub mod branch;
-pub mod bvh;
-pub mod check;
-pub mod contour;
-pub mod crofton;
-pub mod cut;
+pub mod build;
 pub mod error;
-pub mod filler;
-pub mod geom;
-pub mod grid;
-pub mod hash;
-pub mod info;
+pub mod input;
 pub mod io;
-pub mod measures;
+pub mod kernel;
+pub mod measure;
 pub mod mesh;
-pub mod mesher;
-pub mod morphology;
 pub mod overlap;
-pub mod parallel;
 pub mod params;
-pub mod piece;
-pub mod planar;
-pub mod plausibility;
-mod proof;
-pub mod recut;
-pub mod soma;
-pub mod splice;
-pub mod spline;
-pub mod starts;
-pub mod straight;
-pub mod surface;
-pub mod swc;
-pub mod synthetic;
-pub mod track;
-pub mod tube;
-pub mod union;
-pub mod volume;
+pub mod pipeline;
+pub mod skeleton;
 
-pub use check::MeshReport;
 pub use error::{Error, Result, SwcError};
+pub use input::morphology::{Morphology, Soma, SomaKind, Tree};
+pub use measure::check::MeshReport;
 pub use mesh::{BuildStats, Mesh, MeshView};
-pub use mesher::{mesh_morphology, mesh_swc};
-pub use morphology::{Morphology, Soma, SomaKind, Tree};
 pub use params::Params;
+pub use pipeline::{mesh_morphology, mesh_swc};
 
 #[cfg(feature = "python")]
 mod python;

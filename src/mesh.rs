@@ -10,7 +10,7 @@
 //! 0.001 µm, 4 % of a 0.025 µm glial process, and rounding every vertex there
 //! tilts and folds the small triangles of thin neurites into their
 //! neighbours; and the radius floor that keeps contours distinct in f32
-//! ([`crate::mesher::RELATIVE_RADIUS_FLOOR`]) grows with the coordinates.
+//! ([`crate::skeleton::geometry::RELATIVE_RADIUS_FLOOR`]) grows with the coordinates.
 //! Before this, the corpus's 48 files moved 10⁴ units away meshed with
 //! 2,819 crossing face pairs, and a glial cell's area came out 244 % over
 //! the union of round cones (its 0.025 µm processes floored to 0.12). So a
@@ -18,9 +18,10 @@
 //! near its centre ([`frame_origin`]) and keeps the precision it would have
 //! at the origin; writers add the origin back in f64.
 //!
-//! The quality report lives in [`crate::check`].
+//! The quality report lives in [`crate::measure::check`].
 
 use crate::error::{Error, Result};
+use crate::kernel::vector::{bounds, cross, dot, norm, sub};
 
 /// How the mesh was built: counts that say how faithful it is to the paper.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -50,7 +51,7 @@ pub struct BuildStats {
     /// there (0 when it was).
     pub overlap_pairs_left: u32,
     /// Branches whose stretch before their first clear contour was added as a
-    /// filler and united with the rest ([`crate::filler`]); 0 when the
+    /// filler and united with the rest ([`crate::build::filler`]); 0 when the
     /// overlap pass could not take the fillers and the cell was meshed
     /// without them.
     pub fillers: u32,
@@ -251,22 +252,6 @@ fn moved(v: [f32; 3], d: [f64; 3]) -> [f32; 3] {
     [0, 1, 2].map(|a| (f64::from(v[a]) + d[a]) as f32)
 }
 
-/// The lowest and highest corner of the box around `points` (zero when
-/// there are none).
-pub fn bounds(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
-    if points.is_empty() {
-        return ([0.0; 3], [0.0; 3]);
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
-    (lo, hi)
-}
-
 /// The origin to store a mesh spanning the box `lo`..`hi` around.
 ///
 /// Zero when no coordinate of the box exceeds three times its largest
@@ -394,27 +379,6 @@ impl MeshView<'_> {
             })
             .sum()
     }
-}
-
-#[inline]
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-#[inline]
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 #[cfg(test)]

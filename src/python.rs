@@ -26,9 +26,9 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
-use crate::check::MeshReport;
+use crate::input::morphology::Morphology;
+use crate::measure::check::MeshReport;
 use crate::mesh::{BuildStats, Mesh, MeshView};
-use crate::morphology::Morphology;
 use crate::params::*;
 use crate::{Error, io};
 
@@ -221,7 +221,7 @@ impl PyMorphology {
                     .file_parents()
                     .iter()
                     .map(|&p| {
-                        if p == crate::morphology::NO_PARENT {
+                        if p == crate::input::morphology::NO_PARENT {
                             -1
                         } else {
                             ids[p as usize]
@@ -293,7 +293,7 @@ impl PyMorphology {
 
     /// The `neuromesh info` summary as text.
     fn summary(&self) -> String {
-        crate::info::Summary::of(&self.inner).to_string()
+        crate::measure::summary::Summary::of(&self.inner).to_string()
     }
 
     /// Meshes the morphology into a `neuromesh_rs.Mesh`.

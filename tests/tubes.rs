@@ -5,8 +5,8 @@ mod common;
 
 use std::f64::consts::PI;
 
-use neuromesh::check::self_intersections;
-use neuromesh::mesher::build_tubes;
+use neuromesh::measure::check::self_intersections;
+use neuromesh::pipeline::build_tubes;
 use neuromesh::{Mesh, Morphology, Params};
 use proptest::prelude::*;
 
@@ -305,7 +305,7 @@ fn long_runs_between_sharp_steps_stay_on_the_union_of_round_cones() {
     let m = path(&pts, &vec![r; pts.len()]);
     let mesh = mesh(&m);
     assert_sound(&mesh, "staircase of long runs");
-    let cones = neuromesh::union::skeleton_primitives(&m);
+    let cones = m.round_cones();
     let worst = (0..mesh.vertices.len())
         .map(|v| {
             let p = glam::DVec3::from_array(mesh.position(v));
@@ -336,7 +336,7 @@ fn a_built_stage_keeps_the_first_rings_of_each_piece() {
         .collect();
     let m = path(&points, &vec![0.5; points.len()]);
     let stage = build_tubes(&m, &Params::default()).expect("tubes");
-    let kept = neuromesh::tube::KEPT_RINGS;
+    let kept = neuromesh::build::tube::KEPT_RINGS;
     let tris = &stage.surface.tris;
     // The bands are all kept: one per contour the piece was built with.
     assert!(
@@ -347,7 +347,8 @@ fn a_built_stage_keeps_the_first_rings_of_each_piece() {
         assert!(t.rings.len() <= kept && !t.rings.is_empty());
         // The rings kept are the first: band i joins ring i to ring i + 1.
         for (i, pair) in t.rings.windows(2).enumerate() {
-            let on = |k: u32, r: &neuromesh::tube::Ring| (r.first..r.first + r.m).contains(&k);
+            let on =
+                |k: u32, r: &neuromesh::build::tube::Ring| (r.first..r.first + r.m).contains(&k);
             for f in t.bands[i]..t.bands[i + 1] {
                 let face = tris[f as usize];
                 assert!(

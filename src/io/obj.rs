@@ -70,7 +70,7 @@ fn write_blocks<T: Sync>(
 ) -> io::Result<()> {
     let tasks: Vec<&[T]> = items.chunks(LINES_PER_TASK).collect();
     for group in tasks.chunks(16) {
-        let texts = crate::parallel::map(group, |chunk| {
+        let texts = crate::kernel::parallel::map(group, |chunk| {
             let mut out = Vec::with_capacity(chunk.len() * 40);
             for item in *chunk {
                 line(&mut out, item);

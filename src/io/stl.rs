@@ -8,7 +8,8 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::mesh::{Mesh, cross, norm};
+use crate::kernel::vector::{cross, norm};
+use crate::mesh::Mesh;
 
 /// Writes `mesh` as binary STL.
 ///

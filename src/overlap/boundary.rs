@@ -5,11 +5,11 @@
 use super::patches::{classify, patches};
 use super::settle::{Cut, Index};
 use super::{parts_of, vertices_of};
-use crate::bits::Bits;
-use crate::geom::V3;
-use crate::hash::FastSet;
+use crate::kernel::bits::Bits;
+use crate::kernel::hash::FastSet;
+use crate::kernel::vector::V3;
 use crate::mesh::Mesh;
-use crate::proof::{Near, Proven, prove};
+use crate::overlap::verify::{Near, Proven, prove};
 
 /// What one round of the pass built.
 pub(super) struct Built {

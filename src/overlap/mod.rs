@@ -14,7 +14,7 @@
 //!    it is built, so pairs inside one part are never tested).
 //! 2. **Cuts.** Every edge that pierces a face gives one new vertex, shared by
 //!    both faces on the edge and by the pierced face; each crossing pair gives
-//!    one cut segment in both faces ([`crate::cut`]). Each cut face is
+//!    one cut segment in both faces ([`crate::overlap::cut`]). Each cut face is
 //!    re-triangulated in its own plane by the constrained Delaunay
 //!    triangulation of its split edges and cut segments: split along the
 //!    cuts and ear-clipped where they run straight across it (96 % of cut
@@ -44,11 +44,14 @@
 //!    crossing pairs still left after the last.
 
 mod boundary;
+pub mod cut;
+pub mod cut_memo;
 mod pairs;
 mod patches;
 mod settle;
+mod verify;
 
-use crate::geom::{self, V3};
+use crate::kernel::vector::{self, V3};
 use crate::mesh::Mesh;
 use boundary::union;
 use pairs::{crossing_pairs, crossing_pairs_at};
@@ -266,9 +269,9 @@ fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V
     // The nudged vertices are marked in a bit set and their shortest edges
     // kept in a map: an f64 per vertex was 264 MB of fresh pages per nudge
     // on the million-sample tree.
-    let marked = crate::bits::Bits::of(pos.len(), vertices.iter().copied());
+    let marked = crate::kernel::bits::Bits::of(pos.len(), vertices.iter().copied());
     let is_marked = |k: u32| marked.has(k);
-    let mut shortest: crate::hash::FastMap<u32, f64> =
+    let mut shortest: crate::kernel::hash::FastMap<u32, f64> =
         vertices.iter().map(|&v| (v, f64::INFINITY)).collect();
     for f in faces {
         if !f.iter().any(|&k| is_marked(k)) {
@@ -279,8 +282,8 @@ fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V
             if !is_marked(a) && !is_marked(b) {
                 continue;
             }
-            let d = crate::mesh::sub(geom::at(pos, a), geom::at(pos, b));
-            let l = crate::mesh::dot(d, d).sqrt();
+            let d = crate::kernel::vector::sub(vector::at(pos, a), vector::at(pos, b));
+            let l = crate::kernel::vector::dot(d, d).sqrt();
             for k in [a, b] {
                 if let Some(s) = shortest.get_mut(&k) {
                     *s = s.min(l);
@@ -295,9 +298,10 @@ fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V
             let scale = p.iter().fold(0f32, |m, x| m.max(x.abs()));
             let step = 8.0 * f64::from(scale.max(f32::MIN_POSITIVE)) * f64::from(f32::EPSILON);
             let amp = (NUDGE * shortest[&v]).max(step);
-            let mut h = crate::hash::mix64(u64::from(v) ^ (round << 40) ^ 0x9e37_79b9_7f4a_7c15);
+            let mut h =
+                crate::kernel::hash::mix64(u64::from(v) ^ (round << 40) ^ 0x9e37_79b9_7f4a_7c15);
             for c in &mut p {
-                h = crate::hash::mix64(h);
+                h = crate::kernel::hash::mix64(h);
                 let unit = (h >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
                 *c = (f64::from(*c) + amp * unit) as f32;
             }
@@ -310,7 +314,7 @@ fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V
 mod tests {
     use super::pairs::run_boxes;
     use super::*;
-    use crate::bvh::Bvh;
+    use crate::kernel::bvh::Bvh;
     use crate::mesh::tests::cube;
 
     /// Two unit cubes, the second moved by `d`, as one mesh with two parts.
@@ -390,8 +394,8 @@ mod tests {
 
     #[test]
     fn remembered_pieces_are_those_of_a_fresh_cut() {
-        use crate::cut::{Cuts, retriangulate, retriangulate_with};
-        use crate::recut::Memo;
+        use crate::overlap::cut::{Cuts, retriangulate, retriangulate_with};
+        use crate::overlap::cut_memo::Memo;
         let (mut m, owner) = two_cubes([0.3, 0.4, 0.45]);
         let positions = |m: &Mesh| -> Vec<V3> { m.vertices.clone() };
         let pairs_of = |pos: &[V3], m: &Mesh| {
@@ -551,7 +555,7 @@ mod tests {
         let hits = (0..n)
             .filter(|&i| {
                 let p: [f64; 3] = std::array::from_fn(|k| {
-                    let h = crate::hash::mix64(i * 3 + k as u64);
+                    let h = crate::kernel::hash::mix64(i * 3 + k as u64);
                     lo + (hi - lo) * ((h >> 11) as f64 / (1u64 << 53) as f64)
                 });
                 inside(p)

@@ -2,9 +2,9 @@
 //! a BVH over runs of consecutive faces of one part, and their clusters.
 
 use super::{NO_OWNER, RUN};
-use crate::bvh::{Aabb, Bvh};
-use crate::geom::{P3, V3, at};
-use crate::hash::FastMap;
+use crate::kernel::bvh::{Aabb, Bvh};
+use crate::kernel::hash::FastMap;
+use crate::kernel::vector::{P3, V3, at};
 
 /// Runs of up to [`RUN`] consecutive faces with one owner, and their boxes
 /// (for the BVH, which keeps them: the runs do not keep a copy).
@@ -25,7 +25,7 @@ pub(super) fn run_boxes(
         runs.push(start as u32..end as u32);
         start = end;
     }
-    let boxes = crate::parallel::map(&runs, |r| {
+    let boxes = crate::kernel::parallel::map(&runs, |r| {
         let mut b = Aabb::EMPTY;
         for f in &faces[r.start as usize..r.end as usize] {
             for &k in f {
@@ -58,7 +58,7 @@ pub(super) fn crosses(
 ) -> bool {
     let fb = faces[b as usize];
     ba.overlaps(&face_box(pos, fb))
-        && crate::check::pair_intersects(fa, fb, ta, fb.map(|k| at(pos, k)))
+        && crate::kernel::predicates::pair_intersects(fa, fb, ta, fb.map(|k| at(pos, k)))
 }
 
 /// All intersecting pairs of faces of different owners, sorted.
@@ -71,7 +71,7 @@ pub(super) fn crossing_pairs(
 ) -> Vec<[u32; 2]> {
     let run_owner = |i: u32| owner[runs[i as usize].start as usize];
     let item_pairs = bvh.overlapping_pairs(|i, j| compared(run_owner(i), run_owner(j)));
-    let mut pairs = crate::parallel::flat_map_range(item_pairs.len(), |k| {
+    let mut pairs = crate::kernel::parallel::flat_map_range(item_pairs.len(), |k| {
         let [i, j] = item_pairs[k];
         let (ri, rj) = (&runs[i as usize], &runs[j as usize]);
         let (bi, bj) = (bvh.item_box(i), bvh.item_box(j));
@@ -102,7 +102,7 @@ pub(super) fn crossing_pairs(
                 continue;
             }
             for (b, fb, tb, bb) in near {
-                if ba.overlaps(bb) && crate::check::pair_intersects(fa, *fb, ta, *tb) {
+                if ba.overlaps(bb) && crate::kernel::predicates::pair_intersects(fa, *fb, ta, *tb) {
                     out.push([a.min(*b), a.max(*b)]);
                 }
             }
@@ -136,7 +136,7 @@ pub(super) fn crossing_pairs_at(
     let queries: Vec<u32> = (0..faces.len() as u32)
         .filter(|&f| marked[f as usize])
         .collect();
-    let mut pairs = crate::parallel::flat_map_range(queries.len(), |k| {
+    let mut pairs = crate::kernel::parallel::flat_map_range(queries.len(), |k| {
         let a = queries[k];
         let fa = faces[a as usize];
         let ba = face_box(pos, fa);
@@ -173,7 +173,7 @@ pub(super) fn clusters_of(pairs: &[[u32; 2]]) -> Vec<Vec<[u32; 2]>> {
             index.entry(*f).or_insert(next);
         }
     }
-    let mut uf = crate::check::UnionFind::new(index.len());
+    let mut uf = crate::kernel::disjoint_sets::UnionFind::new(index.len());
     for p in pairs {
         uf.union(index[&p[0]], index[&p[1]]);
     }

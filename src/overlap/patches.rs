@@ -1,9 +1,10 @@
 //! Step 3: patches (faces joined without crossing a cut) and whether each
 //! lies outside every other part, by the winding number along rays.
 
-use crate::bvh::{Aabb, Bvh};
-use crate::geom::{self, P3, V3, at};
-use crate::hash::{FastMap, FastSet};
+use crate::kernel::bvh::{Aabb, Bvh};
+use crate::kernel::hash::{FastMap, FastSet};
+use crate::kernel::predicates;
+use crate::kernel::vector::{P3, V3, at};
 
 /// Patch number of every face: faces joined through an old vertex (a cut
 /// never passes through one) or through an uncut edge between new vertices
@@ -39,7 +40,7 @@ pub(super) fn patches(
         .zip(alive)
         .filter(|(face, a)| **a && face.iter().all(|&k| k >= n_old))
         .count();
-    let mut uf = crate::check::UnionFind::new(n_old_vertices + n_extra);
+    let mut uf = crate::kernel::disjoint_sets::UnionFind::new(n_old_vertices + n_extra);
     let mut new_edges: FastMap<(u32, u32), u32> = FastMap::default();
     let mut extra = 0u32;
     // The last live face's corners, all in the set of `last_root` (still a
@@ -128,8 +129,11 @@ pub(super) fn classify(
             continue;
         }
         let t = face.map(|k| at(all_pos, k));
-        let n = crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
-        let area = crate::mesh::dot(n, n);
+        let n = crate::kernel::vector::cross(
+            crate::kernel::vector::sub(t[1], t[0]),
+            crate::kernel::vector::sub(t[2], t[0]),
+        );
+        let area = crate::kernel::vector::dot(n, n);
         let slot = &mut best[patch[f] as usize];
         if area > slot.0 {
             *slot = (area, f as u32);
@@ -145,7 +149,7 @@ pub(super) fn classify(
         .map(|b| b.1)
         .filter(|&f| f != u32::MAX)
         .collect();
-    let verdicts = crate::parallel::map(&samples, |&f| {
+    let verdicts = crate::kernel::parallel::map(&samples, |&f| {
         let t = faces[f as usize].map(|k| at(all_pos, k));
         let c = [
             (t[0][0] + t[1][0] + t[2][0]) / 3.0,
@@ -157,7 +161,10 @@ pub(super) fn classify(
         // number on the side of that face it leaves towards: so every ray
         // leaves towards the outside.
         let o = old_faces[skip as usize].map(|k| at(old_pos, k));
-        let n = crate::mesh::cross(crate::mesh::sub(o[1], o[0]), crate::mesh::sub(o[2], o[0]));
+        let n = crate::kernel::vector::cross(
+            crate::kernel::vector::sub(o[1], o[0]),
+            crate::kernel::vector::sub(o[2], o[0]),
+        );
         let rays = ray_directions(c, n, &bounds);
         let mut votes = [0u32; 2];
         for (k, d) in rays.into_iter().enumerate() {
@@ -203,12 +210,12 @@ pub(super) fn ray_directions(c: P3, n: P3, bounds: &Aabb) -> [P3; 3] {
         [0.603_715, -0.548_338, -0.578_631],
         [-0.569_802, -0.596_114, -0.565_702],
     ];
-    let len = crate::mesh::norm(n);
+    let len = crate::kernel::vector::norm(n);
     let mut ranked: Vec<(f64, f64, P3)> = DIRS
         .iter()
         .map(|&d| {
             let cos = if len > 0.0 {
-                crate::mesh::dot(d, n) / len
+                crate::kernel::vector::dot(d, n) / len
             } else {
                 0.0
             };
@@ -234,7 +241,7 @@ pub(super) fn ray_directions(c: P3, n: P3, bounds: &Aabb) -> [P3; 3] {
 
 /// Winding number of the faces other than `skip` at `c`, counted along the ray
 /// from `c` in direction `d` (+1 for each face the ray leaves through), and
-/// whether the ray came near a face's border ([`geom::ray_triangle_near`]),
+/// whether the ray came near a face's border ([`predicates::ray_triangle_near`]),
 /// where the count may be off.
 pub(super) fn winding(
     c: P3,
@@ -253,12 +260,18 @@ pub(super) fn winding(
                 continue;
             }
             let t = faces[f as usize].map(|k| at(pos, k));
-            let (hit, close) = geom::ray_triangle_near(c, d, t);
+            let (hit, close) = predicates::ray_triangle_near(c, d, t);
             near |= close;
             if hit.is_some_and(|s| s > 0.0) {
-                let n =
-                    crate::mesh::cross(crate::mesh::sub(t[1], t[0]), crate::mesh::sub(t[2], t[0]));
-                w += if crate::mesh::dot(n, d) > 0.0 { 1 } else { -1 };
+                let n = crate::kernel::vector::cross(
+                    crate::kernel::vector::sub(t[1], t[0]),
+                    crate::kernel::vector::sub(t[2], t[0]),
+                );
+                w += if crate::kernel::vector::dot(n, d) > 0.0 {
+                    1
+                } else {
+                    -1
+                };
             }
         }
     });

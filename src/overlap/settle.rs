@@ -24,12 +24,12 @@
 
 use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
 use super::{nudged, vertices_of};
-use crate::bvh::{Aabb, Bvh};
-use crate::cut::{self, Cuts, Pieces, Refusal};
-use crate::geom::{P3, V3, at};
-use crate::hash::FastMap;
+use crate::kernel::bvh::{Aabb, Bvh};
+use crate::kernel::hash::FastMap;
+use crate::kernel::vector::{P3, V3, at};
 use crate::mesh::Mesh;
-use crate::recut::Memo;
+use crate::overlap::cut::{self, Cuts, Pieces, Refusal};
+use crate::overlap::cut_memo::Memo;
 
 /// How many times a round nudges the clusters whose cut is refused and cuts
 /// again before it goes on with them left uncut (a later round nudges them
@@ -48,7 +48,7 @@ pub(super) struct Cut {
     /// The cut of each cluster.
     pub(super) built: Vec<Built>,
     /// The pieces of the faces of large refused clusters, for their next
-    /// cut ([`crate::recut`]).
+    /// cut ([`crate::overlap::cut_memo`]).
     memo: Memo,
 }
 
@@ -180,7 +180,8 @@ fn cut_all(
     clusters: &[impl AsRef<[[u32; 2]]> + Sync],
     reuse: &Memo,
 ) -> (Vec<Built>, Memo) {
-    let done = crate::parallel::map(clusters, |c| cut_remembering(pos, faces, c.as_ref(), reuse));
+    let done =
+        crate::kernel::parallel::map(clusters, |c| cut_remembering(pos, faces, c.as_ref(), reuse));
     let mut memo = Memo::default();
     let built = done
         .into_iter()

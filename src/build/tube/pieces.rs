@@ -1,0 +1,559 @@
+//! Building a branch's tube piece by piece, with a guarantee of no
+//! self-intersection.
+//!
+//! The paper keeps a contour when it does not cross its predecessor and
+//! connects it to the last kept one. That alone does not stop a tube from
+//! running into an earlier, non-adjacent part of itself: a branch that curls
+//! back closer than its radius, a thin stretch that passes through a much
+//! thicker one, a hairpin. So every band (and every cap) is checked against the
+//! earlier bands of its piece before it is kept:
+//!
+//! * A band lies on or behind the plane of its end contour (the disc of its
+//!   start contour clears that plane). A new band wholly in front of an older
+//!   band's end plane cannot meet it; that settles nearly every pair at once.
+//! * Otherwise, if the two bands' capsules (segment between centres, largest
+//!   radius) are apart, they cannot meet either: every band triangle lies in
+//!   its capsule.
+//! * Otherwise the triangles are tested exactly ([`crate::kernel::predicates`]).
+//!
+//! A band that would collide ends the piece there; the rest of the branch
+//! starts a new piece (a separate closed tube now, spliced onto this one like a
+//! secondary branch by [`crate::build::splice`]). An end cap that would collide is
+//! pulled back one contour at a time. Neighbours that share a contour are never
+//! compared: they meet only on that contour's plane, along its edges.
+
+use std::ops::Range;
+
+use crate::kernel::hash::FastMap;
+
+use glam::DVec3;
+
+use crate::build::surface::Surface;
+use crate::build::tube::{self, Ring, Tube};
+use crate::kernel::predicates;
+use crate::skeleton::track::{Track, may_follow};
+
+/// A disc: centre, unit normal, radius.
+#[derive(Debug, Clone, Copy)]
+struct Disc {
+    center: DVec3,
+    normal: DVec3,
+    radius: f64,
+}
+
+impl Disc {
+    /// Smallest signed distance of the disc to the plane (c, n).
+    fn lowest_above(&self, c: DVec3, n: DVec3) -> f64 {
+        let cos = self.normal.dot(n).clamp(-1.0, 1.0);
+        (self.center - c).dot(n) - self.radius * (1.0 - cos * cos).sqrt()
+    }
+}
+
+/// What the guard knows about a band or a cap.
+#[derive(Debug, Clone)]
+struct Part {
+    /// The part lies on or behind this plane (centre, normal).
+    end: (DVec3, DVec3),
+    /// Two discs whose convex hull holds the part.
+    hull: [Disc; 2],
+    /// Capsule: segment and radius holding the part.
+    capsule: (DVec3, DVec3, f64),
+    /// Its triangles in the surface.
+    tris: Range<u32>,
+}
+
+impl Part {
+    fn band(a: &Ring, b: &Ring, tris: Range<u32>) -> Part {
+        let disc = |r: &Ring| Disc {
+            center: r.center,
+            normal: r.normal,
+            radius: r.radius,
+        };
+        Part {
+            end: (b.center, b.normal),
+            hull: [disc(a), disc(b)],
+            capsule: (a.center, b.center, a.radius.max(b.radius)),
+            tris,
+        }
+    }
+
+    /// A dome on `ring`, forward or backward, of height `h` (≥ the cap's).
+    fn cap(ring: &Ring, forward: bool, h: f64, tris: Range<u32>) -> Part {
+        let dir = if forward { ring.normal } else { -ring.normal };
+        let top = ring.center + dir * h;
+        let base = Disc {
+            center: ring.center,
+            normal: ring.normal,
+            radius: h,
+        };
+        Part {
+            end: (top, dir),
+            hull: [
+                base,
+                Disc {
+                    center: top,
+                    ..base
+                },
+            ],
+            capsule: (ring.center, top, h),
+            tris,
+        }
+    }
+
+    fn in_front_of(&self, plane: (DVec3, DVec3)) -> bool {
+        self.hull
+            .iter()
+            .all(|d| d.lowest_above(plane.0, plane.1) > 0.0)
+    }
+}
+
+/// The parts of the piece under construction, in a uniform grid.
+struct Guard {
+    cell: f64,
+    grid: FastMap<[i64; 3], Vec<u32>>,
+    parts: Vec<Part>,
+    seen: Vec<u32>,
+    epoch: u32,
+}
+
+impl Guard {
+    fn new(cell: f64) -> Guard {
+        Guard {
+            cell,
+            grid: FastMap::default(),
+            parts: Vec::new(),
+            seen: Vec::new(),
+            epoch: 0,
+        }
+    }
+
+    fn cells(&self, p: &Part) -> impl Iterator<Item = [i64; 3]> + use<> {
+        let (a, b, r) = p.capsule;
+        let lo = ((a.min(b) - DVec3::splat(r)) / self.cell)
+            .floor()
+            .as_i64vec3();
+        let hi = ((a.max(b) + DVec3::splat(r)) / self.cell)
+            .floor()
+            .as_i64vec3();
+        (lo.x..=hi.x).flat_map(move |x| {
+            (lo.y..=hi.y).flat_map(move |y| (lo.z..=hi.z).map(move |z| [x, y, z]))
+        })
+    }
+
+    fn add(&mut self, p: Part) -> u32 {
+        let id = self.parts.len() as u32;
+        for c in self.cells(&p) {
+            self.grid.entry(c).or_default().push(id);
+        }
+        self.parts.push(p);
+        self.seen.push(0);
+        id
+    }
+
+    /// Removes the most recently added part.
+    fn pop(&mut self) {
+        if let Some(p) = self.parts.pop() {
+            let id = self.parts.len() as u32;
+            for c in self.cells(&p) {
+                if let Some(v) = self.grid.get_mut(&c) {
+                    v.retain(|&x| x != id);
+                }
+            }
+            self.seen.pop();
+        }
+    }
+
+    /// Whether `new` meets any part other than those in `skip`.
+    fn collides(&mut self, surface: &Surface, new: &Part, skip: &[u32]) -> bool {
+        self.epoch += 1;
+        let epoch = self.epoch;
+        // The new part's triangles and boxes, once for all the parts it is
+        // compared with (computed when the first comparison needs them).
+        let mut mine: Option<Band> = None;
+        for c in self.cells(new) {
+            let Some(ids) = self.grid.get(&c) else {
+                continue;
+            };
+            for &id in ids {
+                if self.seen[id as usize] == epoch || skip.contains(&id) {
+                    continue;
+                }
+                self.seen[id as usize] = epoch;
+                let old = &self.parts[id as usize];
+                if new.in_front_of(old.end) {
+                    continue;
+                }
+                let (a, b, r) = new.capsule;
+                let (c2, d2, r2) = old.capsule;
+                if predicates::segment_distance(a, b, c2, d2) > r + r2 {
+                    continue;
+                }
+                let mine = mine.get_or_insert_with(|| Band::new(surface, new.tris.clone()));
+                if mine.meets(surface, old.tris.clone()) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// A part's triangles with their boxes, and the box of them all.
+struct Band {
+    tris: Vec<([[f64; 3]; 3], crate::kernel::bvh::Aabb)>,
+    bounds: crate::kernel::bvh::Aabb,
+}
+
+impl Band {
+    fn new(surface: &Surface, tris: Range<u32>) -> Band {
+        let tris: Vec<_> = tris
+            .map(|t| {
+                let t = surface.corners(t);
+                (t, crate::kernel::bvh::Aabb::of(&t))
+            })
+            .collect();
+        let mut bounds = crate::kernel::bvh::Aabb::EMPTY;
+        for (_, b) in &tris {
+            bounds.add(b);
+        }
+        Band { tris, bounds }
+    }
+
+    /// Whether any of triangles `ys` intersects one of the band's.
+    fn meets(&self, surface: &Surface, ys: Range<u32>) -> bool {
+        ys.into_iter().any(|y| {
+            let ty = surface.corners(y);
+            let by = crate::kernel::bvh::Aabb::of(&ty);
+            by.overlaps(&self.bounds)
+                && self
+                    .tris
+                    .iter()
+                    .any(|(tx, bx)| bx.overlaps(&by) && predicates::triangles_intersect(*tx, ty))
+        })
+    }
+}
+
+/// How to close a piece's ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Caps {
+    /// Cap the start of the branch's first piece (false when it will be
+    /// spliced onto something).
+    pub first_start: bool,
+    /// Cap the start of later pieces (false when they will be spliced).
+    pub later_starts: bool,
+    /// Rings per start cap (see [`tube::cap`]; 0: flat).
+    pub rings: u32,
+    /// Rings per end cap.
+    pub end_rings: u32,
+}
+
+/// What [`build_pieces`] built and found missing.
+#[derive(Debug, Default)]
+pub struct Pieces {
+    /// The tube pieces, in order along the branch.
+    pub tubes: Vec<Tube>,
+    /// Contours skipped (they would have crossed their predecessor or an
+    /// earlier band).
+    pub skipped: u32,
+    /// The original segments (index of their first point) whose contours
+    /// no piece took reach out of what the pieces hold, with the volume left
+    /// out, estimated: each gets a filler of its own round cone
+    /// ([`crate::build::filler`]).
+    pub segments: Vec<(u32, f64)>,
+}
+
+/// Builds the tube of one branch into `surface`, starting at track point
+/// `first`, as one or more pieces, with what the pieces leave out (see
+/// [`Pieces`]).
+///
+/// `anchor` is the point the first piece grows out of (its branch point, for a
+/// secondary); a later piece's anchor is where it split off. A later piece that
+/// will be spliced (`caps.later_starts == false`) starts at its first contour
+/// clear of the previous piece's volume.
+pub fn build_pieces(
+    surface: &mut Surface,
+    track: &Track,
+    labels: &[u32],
+    branch: u32,
+    first: usize,
+    anchor: DVec3,
+    caps: Caps,
+) -> Pieces {
+    let n = track.samples.len();
+    let mut radii: Vec<f64> = track.radii.clone();
+    radii.sort_by(f64::total_cmp);
+    let cell = (4.0 * radii[radii.len() / 2])
+        .max(2.0 * track.edge)
+        .max(1e-300);
+    let mut tubes = Vec::new();
+    let mut skipped = 0u32;
+    let mut segments = Vec::new();
+    let mut start = first.min(n - 1);
+    let mut first_piece = true;
+    let mut anchor = anchor;
+    loop {
+        let piece_first_tri = surface.tris.len() as u32;
+        let mut guard = Guard::new(cell);
+        let ring0 = tube::place_ring(surface, track, start, track.frames[start], labels);
+        let mut rings = vec![ring0];
+        let mut bands = Vec::new();
+        let mut part_ids: Vec<u32> = Vec::new();
+        let cap_start = if first_piece {
+            caps.first_start
+        } else {
+            caps.later_starts
+        };
+        let (mut start_cap, mut start_cap_vertices) = (0..0, 0..0);
+        let mut start_part = None;
+        if cap_start {
+            let (tris, verts) = tube::cap(surface, &ring0, caps.rings, false);
+            start_part = Some(guard.add(Part::cap(
+                &ring0,
+                false,
+                cap_height(&ring0, caps.rings),
+                tris.clone(),
+            )));
+            start_cap = tris;
+            start_cap_vertices = verts;
+        }
+        let mut split_at = None;
+        for k in start + 1..n {
+            let last = rings[rings.len() - 1];
+            let j = last.resampled as usize;
+            if !may_follow(track, j, k) {
+                skipped += 1;
+                let reach =
+                    4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
+                if track.arc[k] - track.arc[j] > reach {
+                    split_at = Some(k);
+                    break;
+                }
+                continue;
+            }
+            let mark = surface.mark();
+            let u =
+                crate::skeleton::frame::push_forward(last.u, last.normal, track.samples[k].tangent);
+            let ring = tube::place_ring(surface, track, k, u, labels);
+            let t0 = surface.tris.len() as u32;
+            tube::connect(surface, &last, &ring);
+            let part = Part::band(&last, &ring, t0..surface.tris.len() as u32);
+            let neighbour = part_ids.last().copied().or(start_part);
+            if guard.collides(surface, &part, neighbour.as_slice()) {
+                surface.rollback(mark);
+                split_at = Some(k);
+                break;
+            }
+            part_ids.push(guard.add(part));
+            bands.push(t0);
+            rings.push(ring);
+        }
+        // End cap, pulled back while it would meet an earlier band.
+        let end_cap = loop {
+            let last = rings[rings.len() - 1];
+            let mark = surface.mark();
+            let (tris, _) = tube::cap(surface, &last, caps.end_rings, true);
+            let part = Part::cap(&last, true, cap_height(&last, caps.end_rings), tris.clone());
+            let mut skip: Vec<u32> = part_ids.last().copied().into_iter().collect();
+            if rings.len() == 1 {
+                skip.extend(start_part);
+            }
+            if rings.len() == 1 || !guard.collides(surface, &part, &skip) {
+                break tris;
+            }
+            // Drop the last ring and its band (they are the newest vertices and
+            // triangles before the cap) and try again one contour earlier.
+            surface.rollback(mark);
+            let band_start = bands.pop().expect("a band per ring after the first");
+            let ring = rings.pop().expect("more than one ring");
+            surface.rollback(crate::build::surface::Mark {
+                vertices: ring.first as usize,
+                triangles: band_start as usize,
+            });
+            guard.pop();
+            part_ids.pop();
+            skipped += 1;
+        };
+        bands.push(end_cap.start);
+        let last = rings[rings.len() - 1];
+        let piece_start = rings[0].resampled as usize;
+        // Split only when the rest of the branch is worth a piece of its own;
+        // otherwise the contours past the end cap are this piece's to cover.
+        let next = split_at.filter(|&k| {
+            track.arc[n - 1] - track.arc[k] > track.samples[last.resampled as usize].radius
+        });
+        let tail = if next.is_some() {
+            last.resampled as usize + 1
+        } else {
+            n
+        };
+        let dome = cap_height(&last, caps.end_rings);
+        let kept: Vec<usize> = rings.iter().map(|r| r.resampled as usize).collect();
+        segments.extend(crate::build::coverage::skipped_segments(
+            track, &kept, tail, dome,
+        ));
+        tubes.push(Tube {
+            branch,
+            rings,
+            bands,
+            start_cap,
+            end_cap: end_cap.clone(),
+            start_cap_vertices,
+            tris: piece_first_tri..end_cap.end,
+            anchor,
+        });
+        first_piece = false;
+        let Some(next) = next else {
+            break;
+        };
+        // The next piece aims its splice at where this one ends.
+        anchor = last.center;
+        if caps.later_starts {
+            start = next;
+        } else {
+            // Spliced later: begin where the contours clear this piece's volume
+            // (its round cones and end cap).
+            let mut volume =
+                crate::build::coverage::cones(track, piece_start, last.resampled as usize);
+            let h = cap_height(&last, caps.end_rings);
+            volume.push(crate::kernel::round_cone::RoundCone::sphere(last.center, h));
+            let found = crate::build::coverage::first_outside_from(track, next, &volume);
+            // The contours between the pieces that reach out of this one's
+            // volume: where the branch turns back on itself (a zig-zag of
+            // segments shorter than their radius, a hairpin) they are its
+            // only cover, and without a filler most of a segment is lost.
+            // What lies outside the next piece's first stretch (four radii
+            // along the track) counts too, which covers the gap's end.
+            let after = last.resampled as usize + 1;
+            let end = found.unwrap_or(n);
+            if let Some(k) = found {
+                let reach = track.arc[k] + 4.0 * track.radii[k];
+                let far = k + track.arc[k..].partition_point(|&a| a <= reach);
+                volume.extend(crate::build::coverage::cones(track, k, far));
+            }
+            segments.extend(crate::build::coverage::segment_gains(
+                track,
+                after..end,
+                &volume,
+            ));
+            match found {
+                Some(k) => start = k,
+                None => break,
+            }
+        }
+    }
+    segments.sort_by_key(|s| s.0);
+    segments.dedup_by(|b, a| {
+        let same = a.0 == b.0;
+        if same {
+            a.1 += b.1;
+        }
+        same
+    });
+    Pieces {
+        tubes,
+        skipped,
+        segments,
+    }
+}
+
+/// Height of the dome [`tube::cap`] builds on `ring` (its enlarged radius).
+fn cap_height(ring: &Ring, rings: u32) -> f64 {
+    crate::skeleton::contour::polygon_radius(ring.radius, 4 * (rings + 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::BuildStats;
+    use crate::params::Params;
+
+    const CAPS: Caps = Caps {
+        first_start: true,
+        later_starts: true,
+        rings: 3,
+        end_rings: 3,
+    };
+
+    fn build(pts: &[DVec3], radii: &[f64]) -> (Vec<Tube>, crate::mesh::Mesh) {
+        let track = Track::new(pts, radii, &Params::DEFAULT, None);
+        let mut s = Surface::default();
+        let labels: Vec<u32> = (0..pts.len() as u32).collect();
+        let tubes = build_pieces(&mut s, &track, &labels, 0, 0, pts[0], CAPS).tubes;
+        (tubes, s.into_mesh(BuildStats::default()))
+    }
+
+    fn assert_pieces_sound(mesh: &crate::mesh::Mesh) {
+        let r = mesh.view().check_topology();
+        assert!(r.is_closed() && r.is_manifold() && r.is_outward(), "{r}");
+        let comp = crate::kernel::disjoint_sets::face_components(&mesh.faces, mesh.vertices.len());
+        let inside = crate::measure::check::self_intersections(&mesh.view())
+            .into_iter()
+            .filter(|p| comp[p[0] as usize] == comp[p[1] as usize])
+            .count();
+        assert_eq!(inside, 0);
+    }
+
+    #[test]
+    fn straight_tube_is_one_piece() {
+        let pts: Vec<DVec3> = (0..5)
+            .map(|i| DVec3::new(f64::from(i) * 2.0, 0.0, 0.0))
+            .collect();
+        let (tubes, mesh) = build(&pts, &[1.0; 5]);
+        assert_eq!(tubes.len(), 1);
+        assert_pieces_sound(&mesh);
+        assert_eq!(mesh.check().euler_characteristic, 2);
+    }
+
+    #[test]
+    fn a_loop_closing_on_itself_splits() {
+        // A circle of radius 3 with a tube of radius 1, going round 1.1 times.
+        let pts: Vec<DVec3> = (0..=40)
+            .map(|i| {
+                let t = f64::from(i) / 40.0 * std::f64::consts::TAU * 1.1;
+                DVec3::new(3.0 * t.cos(), 3.0 * t.sin(), 0.0)
+            })
+            .collect();
+        let (tubes, mesh) = build(&pts, &vec![1.0; pts.len()]);
+        assert!(tubes.len() >= 2);
+        assert_pieces_sound(&mesh);
+    }
+
+    #[test]
+    fn hairpin_splits_into_pieces() {
+        let mut pts: Vec<DVec3> = (0..10)
+            .map(|i| DVec3::new(f64::from(i), 0.0, 0.0))
+            .collect();
+        pts.push(DVec3::new(9.5, 0.5, 0.0));
+        pts.extend((0..10).map(|i| DVec3::new(9.0 - f64::from(i), 1.0, 0.0)));
+        let (tubes, mesh) = build(&pts, &vec![1.0; pts.len()]);
+        assert!(tubes.len() >= 2);
+        assert_pieces_sound(&mesh);
+    }
+
+    #[test]
+    fn radius_exploding_over_a_short_distance() {
+        // Radii from a real file whose radius column holds codes (40 → 2765 over 1.2 units).
+        let pts = [
+            DVec3::new(116.43106, 123.68894, 26.68),
+            DVec3::new(116.49914, 123.97046, 26.68),
+            DVec3::new(116.60678, 124.41758, 26.68),
+            DVec3::new(116.71488, 124.86470, 26.68),
+        ];
+        let (_, mesh) = build(&pts, &[40.0, 692.1, 1728.4, 2764.7]);
+        assert_pieces_sound(&mesh);
+    }
+
+    #[test]
+    fn thin_stretch_passing_a_thick_point() {
+        // A fat point followed by a thin path that swings back past it.
+        let pts = [
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(6.0, 3.0, 0.0),
+            DVec3::new(3.0, 5.0, 0.0),
+            DVec3::new(-1.0, 6.0, 0.0),
+        ];
+        let (_, mesh) = build(&pts, &[9.0, 0.05, 0.05, 0.05, 0.05]);
+        assert_pieces_sound(&mesh);
+    }
+}

@@ -1,0 +1,5 @@
+//! Input: SWC text and arrays to a clean [`Morphology`](morphology::Morphology).
+pub mod morphology;
+pub mod plausibility;
+pub mod swc;
+pub mod synthetic;

@@ -1,0 +1,6 @@
+//! Measures.
+pub mod check;
+pub mod crofton;
+pub mod skeleton;
+pub mod summary;
+pub mod union;
