@@ -19,7 +19,9 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use neuromesh::{Mesh, Morphology, Params, pipeline as mesher};
+use neuromesh::internals::build::{self, FIRST_REACH, plan, tubes};
+use neuromesh::internals::{overlap, skeleton};
+use neuromesh::{Mesh, Morphology, Params};
 
 /// Real files from the test corpus: small, median, a big Purkinje cell, and
 /// the largest.
@@ -54,6 +56,14 @@ fn fixtures() -> Vec<(&'static str, Morphology, Mesh)> {
         .collect()
 }
 
+/// Stages 1 to 3 of `m`: the skeleton and its tubes.
+fn tube_stage(m: &Morphology, params: &Params) -> (skeleton::Skeleton, tubes::Tubes) {
+    let skeleton = skeleton::prepare(m, params, FIRST_REACH.sweep_cap).expect("skeleton");
+    let starts = plan::plan(&skeleton, params);
+    let built = tubes::build(&skeleton, &starts, params);
+    (skeleton, built)
+}
+
 fn stages(c: &mut Criterion) {
     let params = Params::default();
     let files = fixtures();
@@ -64,8 +74,8 @@ fn stages(c: &mut Criterion) {
         g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &bytes, |b, bytes| {
             b.iter(|| {
-                let f =
-                    neuromesh::input::swc::SwcFile::parse(black_box(bytes), name).expect("valid");
+                let f = neuromesh::internals::input::swc::SwcFile::parse(black_box(bytes), name)
+                    .expect("valid");
                 Morphology::from_file(f).expect("valid")
             })
         });
@@ -77,14 +87,7 @@ fn stages(c: &mut Criterion) {
         g.throughput(Throughput::Elements(m.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), m, |b, m| {
             b.iter(|| {
-                let geometry = neuromesh::skeleton::geometry::Geometry::new(m, &params);
-                let branches = neuromesh::skeleton::branch::identify(m, params.angle_threshold);
-                neuromesh::skeleton::tracks(
-                    &geometry,
-                    &branches,
-                    &params,
-                    neuromesh::skeleton::track::SWEEP_CAP,
-                )
+                skeleton::prepare(black_box(m), &params, FIRST_REACH.sweep_cap).expect("skeleton")
             })
         });
     }
@@ -93,27 +96,24 @@ fn stages(c: &mut Criterion) {
     let mut g = c.benchmark_group("tubes");
     g.sample_size(10).measurement_time(Duration::from_secs(6));
     for (name, m, _) in &files {
+        let skeleton = skeleton::prepare(m, &params, FIRST_REACH.sweep_cap).expect("skeleton");
+        let starts = plan::plan(&skeleton, &params);
         g.throughput(Throughput::Elements(m.len() as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(name), m, |b, m| {
-            b.iter(|| mesher::build_tubes(black_box(m), &params).expect("tubes"))
-        });
+        g.bench_with_input(
+            BenchmarkId::from_parameter(name),
+            &skeleton,
+            |b, skeleton| b.iter(|| tubes::build(black_box(skeleton), &starts, &params)),
+        );
     }
     g.finish();
 
     let mut g = c.benchmark_group("soma");
     g.sample_size(10).measurement_time(Duration::from_secs(6));
     for (name, m, mesh) in &files {
-        let stage = mesher::build_tubes(m, &params).expect("tubes");
+        let (_, built) = tube_stage(m, &params);
         g.throughput(Throughput::Elements(mesh.faces.len() as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(name), &stage, |b, stage| {
-            b.iter_batched(
-                || stage.clone(),
-                |mut s| {
-                    mesher::build_somas(&mut s);
-                    s
-                },
-                BatchSize::LargeInput,
-            )
+        g.bench_with_input(BenchmarkId::from_parameter(name), &built, |b, built| {
+            b.iter_batched(|| built.clone(), build::join_somas, BatchSize::LargeInput)
         });
     }
     g.finish();
@@ -121,16 +121,13 @@ fn stages(c: &mut Criterion) {
     let mut g = c.benchmark_group("splice");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     for (name, m, mesh) in &files {
-        let mut stage = mesher::build_tubes(m, &params).expect("tubes");
-        mesher::build_somas(&mut stage);
+        let (_, built) = tube_stage(m, &params);
+        let open = build::join_somas(built);
         g.throughput(Throughput::Elements(mesh.faces.len() as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(name), &stage, |b, stage| {
+        g.bench_with_input(BenchmarkId::from_parameter(name), &open, |b, open| {
             b.iter_batched(
-                || stage.clone(),
-                |mut s| {
-                    mesher::splice_all(&mut s, &params);
-                    s
-                },
+                || open.clone(),
+                |o| build::splice_all(o, params.cap_rings),
                 BatchSize::LargeInput,
             )
         });
@@ -140,19 +137,15 @@ fn stages(c: &mut Criterion) {
     let mut g = c.benchmark_group("overlaps");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     for (name, m, mesh) in &files {
-        let mut stage = mesher::build_tubes(m, &params).expect("tubes");
-        mesher::build_somas(&mut stage);
-        mesher::splice_all(&mut stage, &params);
-        let (spliced, owner) = stage
-            .surface
-            .clone()
-            .into_mesh_with(stage.stats.clone(), stage.owner.clone());
+        let (_, built) = tube_stage(m, &params);
+        let spliced = build::splice_all(build::join_somas(built), params.cap_rings);
+        let (spliced, owner) = spliced.surface.into_mesh_with(spliced.stats, spliced.owner);
         g.throughput(Throughput::Elements(mesh.faces.len() as u64));
         g.bench_with_input(BenchmarkId::from_parameter(name), &spliced, |b, spliced| {
             b.iter_batched(
-                || spliced.clone(),
-                |mut out| {
-                    mesher::resolve_overlaps(&mut out, &owner);
+                || (spliced.clone(), owner.clone()),
+                |(mut out, owner)| {
+                    overlap::resolve(&mut out, owner);
                     out
                 },
                 BatchSize::LargeInput,

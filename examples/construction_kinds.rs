@@ -8,13 +8,15 @@ fn main() {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
         let mesh = neuromesh::mesh_morphology(&m, &neuromesh::Params::default()).expect("mesh");
         let view = mesh.view();
-        let comp =
-            neuromesh::kernel::disjoint_sets::face_components(view.faces, view.vertices.len());
-        let depth = neuromesh::measure::check::tree_depths(&m);
+        let comp = neuromesh::internals::kernel::disjoint_sets::face_components(
+            view.faces,
+            view.vertices.len(),
+        );
+        let depth = neuromesh::internals::measure::check::tree_depths(&m);
         let (mut across, mut within) = (0, 0);
         let mut samples: std::collections::BTreeMap<u32, u32> = Default::default();
-        for p in neuromesh::measure::check::self_intersections(&view) {
-            if neuromesh::measure::check::is_skeleton_overlap(&view, &m, &depth, p) {
+        for p in neuromesh::internals::measure::check::self_intersections(&view) {
+            if neuromesh::internals::measure::check::is_skeleton_overlap(&view, &m, &depth, p) {
                 continue;
             }
             if comp[p[0] as usize] == comp[p[1] as usize] {

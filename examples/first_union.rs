@@ -7,12 +7,15 @@ fn main() {
     let params = neuromesh::Params::default();
     for path in std::env::args().skip(1) {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
-        let stage = neuromesh::pipeline::construct(&m, &params).expect("stage");
-        let (mut mesh, owner) = stage
-            .surface
-            .into_mesh_with(stage.stats.clone(), stage.owner.clone());
+        let built = neuromesh::internals::build::construct(
+            &m,
+            &params,
+            neuromesh::internals::build::FIRST_REACH,
+        )
+        .expect("construction");
+        let (mut mesh, owner) = built.into_mesh();
         let t = std::time::Instant::now();
-        let r = neuromesh::overlap::resolve_with_owner(&mut mesh, &owner);
+        let r = neuromesh::internals::overlap::resolve(&mut mesh, owner);
         println!(
             "{path}: {} pairs, {} left ({}), {} parts in them, {:.0} ms",
             r.outcome.pairs,

@@ -23,12 +23,12 @@ fn main() {
     let path = std::env::temp_dir().join(format!("neuromesh-random-{n}-{seed}.swc"));
     std::fs::write(
         &path,
-        neuromesh::input::synthetic::random_neuron_swc(n, seed),
+        neuromesh::internals::input::synthetic::random_neuron_swc(n, seed),
     )
     .expect("write");
     let before = peak_rss_mb();
     let start = Instant::now();
-    let mesh = neuromesh::kernel::parallel::with_threads(Some(1), || {
+    let mesh = neuromesh::internals::kernel::parallel::with_threads(Some(1), || {
         neuromesh::mesh_swc(&path, &neuromesh::Params::default())
     })
     .expect("pool")

@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release --example surface_offsets -- FILE.swc...`
 use glam::DVec3;
-use neuromesh::kernel::bvh::{Aabb, Bvh};
+use neuromesh::internals::kernel::bvh::{Aabb, Bvh};
 
 /// Bucket edges, in radii of the nearest primitive.
 const EDGES: [f64; 8] = [-0.5, -0.2, -0.1, -0.03, 0.03, 0.1, 0.2, 0.5];

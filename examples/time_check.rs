@@ -13,7 +13,7 @@ fn main() {
     let _ = mesh.area() + mesh.volume();
     println!("area+volume {:.0} ms", t.elapsed().as_secs_f64() * 1e3);
     let t = Instant::now();
-    let pairs = neuromesh::measure::check::self_intersections(&mesh.view());
+    let pairs = neuromesh::internals::measure::check::self_intersections(&mesh.view());
     println!(
         "self-intersections {:.0} ms ({} pairs)",
         t.elapsed().as_secs_f64() * 1e3,

@@ -6,7 +6,7 @@ fn main() {
     for path in std::env::args().skip(1) {
         let m = neuromesh::Morphology::from_swc(&path).expect("swc");
         let t = std::time::Instant::now();
-        let u = neuromesh::measure::union::measure_morphology(&m);
+        let u = neuromesh::internals::measure::union::measure_morphology(&m);
         println!(
             "{path} area {:.6e} volume {:.6e} in {:.1} ms",
             u.area,

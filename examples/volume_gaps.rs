@@ -11,9 +11,9 @@
 //!
 //! `cargo run --release --example volume_gaps -- FILE.swc [TOP] [--extra]`
 use glam::DVec3;
-use neuromesh::kernel::bvh::{Aabb, Bvh};
-use neuromesh::kernel::round_cone::RoundCone;
-use neuromesh::mesh::Mesh;
+use neuromesh::internals::kernel::bvh::{Aabb, Bvh};
+use neuromesh::internals::kernel::round_cone::RoundCone;
+use neuromesh::internals::mesh::Mesh;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -52,7 +52,8 @@ impl Probe {
         let (o, dir) = (p.to_array(), [0.573_21, 0.611_17, 0.545_43]);
         let mut n = 0;
         self.bvh.for_each_on_ray(o, dir, f64::INFINITY, |i| {
-            if neuromesh::kernel::predicates::ray_triangle(o, dir, self.tris[i as usize]).is_some()
+            if neuromesh::internals::kernel::predicates::ray_triangle(o, dir, self.tris[i as usize])
+                .is_some()
             {
                 n += 1;
             }
@@ -173,8 +174,10 @@ fn missing(m: &neuromesh::Morphology, mesh: &Mesh, probe: &Probe, top: usize) {
                         .iter()
                         .map(|t| {
                             let t = t.map(DVec3::from_array);
-                            neuromesh::kernel::predicates::closest_point_on_triangle(p, t)
-                                .distance(p)
+                            neuromesh::internals::kernel::predicates::closest_point_on_triangle(
+                                p, t,
+                            )
+                            .distance(p)
                         })
                         .fold(f64::INFINITY, f64::min);
                     println!("  miss t {t:+.3} radial {radial:.3} depth {depth:.3}");

@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+pub use crate::kernel::parallel::thread_count;
 
 /// What became of one input file.
 #[derive(Debug)]

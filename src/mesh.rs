@@ -276,6 +276,12 @@ pub fn frame_origin(lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|a| ((lo[a] + hi[a]) / 2.0 / step).round() * step)
 }
 
+/// The part of a face that belongs to no part: the construction marks its
+/// somas so, and the overlap pass compares such faces with everything, one
+/// face at a time. Every other face's part is a number the construction
+/// gives (a tube piece, a bridge, a filler piece).
+pub const NO_OWNER: u32 = u32::MAX;
+
 /// Borrowed mesh arrays (from a [`Mesh`] or from numpy without a copy).
 #[derive(Debug, Clone, Copy)]
 pub struct MeshView<'a> {

@@ -1,6 +1,6 @@
 //! A radius column of codes (the CAR platform writes 40 to 6,910 on a cell
 //! 200 units across) makes the union of round cones one star-shaped blob;
-//! it is meshed as that blob ([`neuromesh::build::star_hull`]).
+//! it is meshed as that blob ([`neuromesh::internals::build::star_hull`]).
 //!
 //! The reference here is its own: the crate's union measure samples each
 //! primitive's surface, and on 949 nearly concentric spheres of radius 6,910
@@ -12,7 +12,7 @@
 
 mod common;
 
-use neuromesh::input::morphology::NO_PARENT;
+use neuromesh::internals::input::morphology::NO_PARENT;
 use neuromesh::{Morphology, Params};
 
 /// A small seeded generator (SplitMix64) for points in a box.

@@ -36,7 +36,7 @@ fn winding(mesh: &neuromesh::Mesh, c: [f64; 3]) -> i32 {
     let mut w = 0;
     for f in &mesh.faces {
         let t = f.map(|v| mesh.position(v as usize));
-        let (hit, near) = neuromesh::kernel::predicates::ray_triangle_near(c, d, t);
+        let (hit, near) = neuromesh::internals::kernel::predicates::ray_triangle_near(c, d, t);
         assert!(!near, "the ray passes near a face's border: pick another");
         if hit.is_some_and(|s| s > 0.0) {
             let e = |i: usize| [t[i][0] - t[0][0], t[i][1] - t[0][1], t[i][2] - t[0][2]];

@@ -282,7 +282,7 @@ fn check_reports_exactly_the_faults_of_a_box() {
 fn help_lists_the_parameters() {
     let out = neuromesh(&["mesh", "--help"]);
     let s = text(&out.stdout);
-    for name in neuromesh::params::PARAM_NAMES {
+    for name in neuromesh::PARAM_NAMES {
         assert!(
             s.contains(&format!("--{}", name.replace('_', "-"))),
             "{name} missing from\n{s}"

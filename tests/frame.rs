@@ -54,7 +54,7 @@ fn a_cell_far_from_the_origin_meshes_as_at_the_origin() {
     // moved: compare the boxes of the absolute positions.
     let bounds = |m: &Mesh| {
         let p: Vec<[f64; 3]> = (0..m.vertex_count()).map(|i| m.position(i)).collect();
-        neuromesh::kernel::vector::bounds(&p)
+        neuromesh::internals::kernel::vector::bounds(&p)
     };
     let ((nlo, nhi), (flo, fhi)) = (bounds(&near), bounds(&far));
     for a in 0..3 {

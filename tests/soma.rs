@@ -5,7 +5,7 @@
 //! The reference area and volume are those of the exact union of the
 //! skeleton's round cones with the soma as one sphere, integrated by seeded
 //! Monte Carlo over each primitive's surface and volume
-//! ([`neuromesh::measure::union`], standard error about 0.2 %).
+//! ([`neuromesh::internals::measure::union`], standard error about 0.2 %).
 
 mod common;
 
@@ -45,7 +45,7 @@ fn assert_cell(m: &Morphology, tol: f64, what: &str) -> Mesh {
     assert!(r.is_valid(), "{what}\n{r}");
     assert_eq!(r.components, 1, "{what}\n{r}");
     assert_eq!(r.self_intersections, 0, "{what}\n{r}");
-    let u = neuromesh::measure::union::measure_morphology(m);
+    let u = neuromesh::internals::measure::union::measure_morphology(m);
     let (ea, ev) = (mesh.area() / u.area - 1.0, mesh.volume() / u.volume - 1.0);
     assert!(
         ea.abs() < tol && ev.abs() < tol,
@@ -99,7 +99,7 @@ fn a_soma_with_three_neurites() {
 /// it, which leaves the fillet's wedge out, twelve times.
 #[test]
 fn a_soma_with_twelve_neurites() {
-    let dirs: Vec<[f64; 3]> = neuromesh::build::soma::fibonacci(12)
+    let dirs: Vec<[f64; 3]> = neuromesh::internals::build::soma::fibonacci(12)
         .iter()
         .map(|u| u.to_array())
         .collect();
@@ -208,7 +208,7 @@ fn a_thin_trunk_deep_inside_its_soma_samples_sphere() {
     assert!(r.is_valid(), "{r}");
     assert_eq!(r.components, 1, "{r}");
     assert_eq!(r.self_intersections, 0, "{r}");
-    let u = neuromesh::measure::union::measure_morphology(&m);
+    let u = neuromesh::internals::measure::union::measure_morphology(&m);
     let (ea, ev) = (mesh.area() / u.area - 1.0, mesh.volume() / u.volume - 1.0);
     assert!(
         ev.abs() < 0.03 && ea.abs() < 0.06,

@@ -2,7 +2,7 @@
 
 mod common;
 
-use neuromesh::input::swc::SwcFile;
+use neuromesh::internals::input::swc::SwcFile;
 use neuromesh::{Error, Morphology, SomaKind};
 
 #[test]

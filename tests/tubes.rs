@@ -5,8 +5,10 @@ mod common;
 
 use std::f64::consts::PI;
 
-use neuromesh::measure::check::self_intersections;
-use neuromesh::pipeline::build_tubes;
+use neuromesh::internals::build::tubes::{self, Tubes};
+use neuromesh::internals::build::{FIRST_REACH, plan};
+use neuromesh::internals::measure::check::self_intersections;
+use neuromesh::internals::skeleton;
 use neuromesh::{Mesh, Morphology, Params};
 use proptest::prelude::*;
 
@@ -32,6 +34,14 @@ fn assert_closed(mesh: &Mesh, what: &str) {
     assert_eq!(r.duplicate_faces, 0, "{what}\n{r}");
 }
 
+/// Stages 1 to 3 of `m` at the default parameters: its tubes.
+fn build_tubes(m: &Morphology) -> Tubes {
+    let params = Params::default();
+    let skeleton = skeleton::prepare(m, &params, FIRST_REACH.sweep_cap).expect("skeleton");
+    let starts = plan::plan(&skeleton, &params);
+    tubes::build(&skeleton, &starts, &params)
+}
+
 /// Closed as above and free of any self-intersection.
 fn assert_sound(mesh: &Mesh, what: &str) {
     assert_closed(mesh, what);
@@ -43,7 +53,7 @@ fn assert_sound(mesh: &Mesh, what: &str) {
 /// The tube stage alone (before splicing): no piece of any branch crosses
 /// itself. Returns the number of pieces.
 fn assert_pieces_sound(m: &Morphology, what: &str) -> usize {
-    let stage = build_tubes(m, &Params::default()).expect("tubes");
+    let stage = build_tubes(m);
     let s = &stage.surface;
     // Each piece as a mesh of its own vertices only: a copy of the whole
     // cell's vertices per piece made this test quadratic in the cell's size.
@@ -335,8 +345,8 @@ fn a_built_stage_keeps_the_first_rings_of_each_piece() {
         })
         .collect();
     let m = path(&points, &vec![0.5; points.len()]);
-    let stage = build_tubes(&m, &Params::default()).expect("tubes");
-    let kept = neuromesh::build::tube::KEPT_RINGS;
+    let stage = build_tubes(&m);
+    let kept = neuromesh::internals::build::tube::KEPT_RINGS;
     let tris = &stage.surface.tris;
     // The bands are all kept: one per contour the piece was built with.
     assert!(
@@ -347,8 +357,9 @@ fn a_built_stage_keeps_the_first_rings_of_each_piece() {
         assert!(t.rings.len() <= kept && !t.rings.is_empty());
         // The rings kept are the first: band i joins ring i to ring i + 1.
         for (i, pair) in t.rings.windows(2).enumerate() {
-            let on =
-                |k: u32, r: &neuromesh::build::tube::Ring| (r.first..r.first + r.m).contains(&k);
+            let on = |k: u32, r: &neuromesh::internals::build::tube::Ring| {
+                (r.first..r.first + r.m).contains(&k)
+            };
             for f in t.bands[i]..t.bands[i + 1] {
                 let face = tris[f as usize];
                 assert!(

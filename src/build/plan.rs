@@ -17,9 +17,9 @@ use glam::DVec3;
 use crate::build::coverage::ConeIndex;
 use crate::build::filler::Straight;
 use crate::build::soma::{self, Footprint, Sphere};
-use crate::input::morphology::Morphology;
 use crate::kernel::round_cone::RoundCone;
 use crate::params::Params;
+use crate::skeleton::Skeleton;
 use crate::skeleton::branch::{Attachment, Branch};
 use crate::skeleton::geometry::Geometry;
 use crate::skeleton::track::Track;
@@ -60,13 +60,14 @@ pub struct Starts {
 const MIN_TRUNK_STEEPNESS: f64 = 0.25;
 
 /// Decides every branch's start (see the module documentation).
-pub fn plan(
-    m: &Morphology,
-    geometry: &Geometry,
-    branches: &[Branch],
-    tracks: &[Track],
-    params: &Params,
-) -> Starts {
+pub fn plan(skeleton: &Skeleton, params: &Params) -> Starts {
+    let Skeleton {
+        morphology: m,
+        geometry,
+        branches,
+        tracks,
+        ..
+    } = skeleton;
     // Cells sized once for the whole cell; each use fills its own copy with
     // just the branches its queries may return.
     let empty = ConeIndex::empty_for(tracks);

@@ -19,6 +19,39 @@ pub struct Mark {
     pub triangles: usize,
 }
 
+/// Where an appended surface's vertices and triangles begin in the surface it
+/// was appended to ([`Surface::append`]): what turns indices into one into
+/// indices into the other.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Offset {
+    /// Added to a vertex index.
+    pub vertices: u32,
+    /// Added to a triangle index.
+    pub triangles: u32,
+}
+
+impl Offset {
+    /// A vertex index moved by the offset.
+    pub fn vertex(self, v: u32) -> u32 {
+        v + self.vertices
+    }
+
+    /// A triangle index moved by the offset.
+    pub fn triangle(self, t: u32) -> u32 {
+        t + self.triangles
+    }
+
+    /// A range of vertex indices moved by the offset.
+    pub fn vertex_range(self, r: std::ops::Range<u32>) -> std::ops::Range<u32> {
+        self.vertex(r.start)..self.vertex(r.end)
+    }
+
+    /// A range of triangle indices moved by the offset.
+    pub fn triangle_range(self, r: std::ops::Range<u32>) -> std::ops::Range<u32> {
+        self.triangle(r.start)..self.triangle(r.end)
+    }
+}
+
 /// A growing triangle soup with labels; see the module docs.
 #[derive(Debug, Clone, Default)]
 pub struct Surface {
@@ -80,14 +113,9 @@ impl Surface {
         self.tris[t as usize].map(|k| self.pos[k as usize].to_array())
     }
 
-    /// Number of triangles ever added (removed ones included).
-    pub fn triangle_count(&self) -> usize {
-        self.tris.len()
-    }
-
-    /// Appends `other`, returning the offset added to its vertex indices and the
-    /// offset added to its triangle indices.
-    pub fn append(&mut self, other: &Surface) -> (u32, u32) {
+    /// Appends `other`; the [`Offset`] that takes its indices to this
+    /// surface's.
+    pub fn append(&mut self, other: &Surface) -> Offset {
         let v0 = self.pos.len() as u32;
         let t0 = self.tris.len() as u32;
         self.pos.extend_from_slice(&other.pos);
@@ -95,7 +123,10 @@ impl Surface {
         self.tris
             .extend(other.tris.iter().map(|t| [t[0] + v0, t[1] + v0, t[2] + v0]));
         self.alive.extend_from_slice(&other.alive);
-        (v0, t0)
+        Offset {
+            vertices: v0,
+            triangles: t0,
+        }
     }
 
     /// The finished mesh: live triangles only, unused vertices dropped, f32.

@@ -2,4 +2,5 @@
 pub mod morphology;
 pub mod plausibility;
 pub mod swc;
+#[cfg(any(test, feature = "internals"))]
 pub mod synthetic;

@@ -4,18 +4,27 @@
 //! column (the CAR platform's files hold 40 to 6,910 on a cell 150 units wide).
 //! The mesher follows the radii as given, so such a file meshes into a blob, or
 //! into a few tubes when most contours are swallowed by their neighbours. This
-//! does not change the mesh; it lets the CLI say why it looks wrong.
+//! changes the mesh only in leaving out the fillers ([`crate::build::filler`]),
+//! which would cross each other everywhere inside such swollen spheres; it
+//! lets the CLI say why the mesh looks wrong.
 
 use crate::input::morphology::{Morphology, NO_PARENT};
 
 /// Median neurite radius above this many median segment lengths is implausible
 /// (real tracings sit near 0.1 to 5; EM skeletons reach about 5).
-const RADIUS_PER_SEGMENT: f64 = 20.0;
+pub const RADIUS_PER_SEGMENT: f64 = 20.0;
 
-/// Why the radii of `m` look like another unit than its coordinates, if they do:
-/// the median neurite radius is over `RADIUS_PER_SEGMENT` median segment
-/// lengths, or the largest neurite radius exceeds the bounding box's diagonal.
-pub fn radius_warning(m: &Morphology) -> Option<String> {
+impl Morphology {
+    /// Why the radii look like another unit than the coordinates, if they
+    /// do: the median neurite radius is over [`RADIUS_PER_SEGMENT`] median
+    /// segment lengths, or the largest neurite radius exceeds the bounding
+    /// box's diagonal.
+    pub fn radius_warning(&self) -> Option<String> {
+        radius_warning(self)
+    }
+}
+
+fn radius_warning(m: &Morphology) -> Option<String> {
     let (pos, rad, parent) = (m.positions(), m.radii(), m.parents());
     let neurite: Vec<usize> = (0..m.len()).filter(|&i| !m.is_soma(i as u32)).collect();
     let mut lengths: Vec<f64> = neurite

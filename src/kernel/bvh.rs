@@ -263,6 +263,7 @@ impl Bvh {
     }
 
     /// Whether the hierarchy holds no items.
+    #[cfg(any(test, feature = "internals"))]
     pub fn is_empty(&self) -> bool {
         self.boxes.is_empty()
     }

@@ -6,8 +6,6 @@
 //! to machine. It is small and fast, and good enough for geometry; nothing
 //! here needs cryptographic quality.
 
-use glam::DVec3;
-
 use super::hash::mix64;
 
 /// SplitMix64: a counter stepped by the golden ratio, mixed by
@@ -34,11 +32,12 @@ impl Rng {
     }
 
     /// Uniform on the unit sphere.
-    pub fn unit(&mut self) -> DVec3 {
+    #[cfg(any(test, feature = "internals"))]
+    pub fn unit(&mut self) -> glam::DVec3 {
         let z = 2.0 * self.f64() - 1.0;
         let phi = std::f64::consts::TAU * self.f64();
         let s = (1.0 - z * z).max(0.0).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+        glam::DVec3::new(s * phi.cos(), s * phi.sin(), z)
     }
 }
 

@@ -343,6 +343,7 @@ pub struct Pieces {
 /// ([`crate::kernel::planar::triangulate_polygon`], the same triangulation spade
 /// would give); on a cell with a few thousand cut faces that takes a tenth of
 /// the instructions of spade's bulk load, which remains for the rest.
+#[cfg(test)]
 pub fn retriangulate(pos: &[V3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<Pieces, Refusal> {
     retriangulate_with(pos, faces, cuts, None, None)
 }

@@ -52,17 +52,13 @@ mod settle;
 mod verify;
 
 use crate::kernel::vector::{self, V3};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, NO_OWNER};
 use boundary::union;
 use pairs::{crossing_pairs, crossing_pairs_at};
 use settle::{Index, cut_with_nudges};
 
 /// Faces per BVH item: runs of consecutive faces of one part.
 const RUN: usize = 16;
-
-/// Owner of faces that belong to no proven part (the somas): compared with
-/// everything, one face at a time.
-pub const NO_OWNER: u32 = u32::MAX;
 
 /// What the pass did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -89,15 +85,7 @@ const ROUNDS: usize = 6;
 /// contact degenerate.
 const NUDGE: f64 = 1e-3;
 
-/// Replaces `mesh` by the boundary of its union where its parts cross.
-/// `owner[f]` is the part of face `f` ([`NO_OWNER`] for faces to compare with
-/// everything). Where a crossing cannot be cut, its faces are left as they
-/// were (see the module docs).
-pub fn resolve(mesh: &mut Mesh, owner: &[u32]) -> Outcome {
-    resolve_with_owner(mesh, owner).outcome
-}
-
-/// What [`resolve_with_owner`] tells besides the mesh.
+/// What [`resolve`] tells besides the mesh.
 #[derive(Debug, Clone)]
 pub struct Resolved {
     /// What the pass did.
@@ -109,16 +97,13 @@ pub struct Resolved {
     pub left_parts: Vec<u32>,
 }
 
-/// [`resolve`], also telling the part of each face of the result and the
-/// parts of the crossings it left.
-pub fn resolve_with_owner(mesh: &mut Mesh, owner: &[u32]) -> Resolved {
-    resolve_owned(mesh, owner.to_vec())
-}
-
-/// [`resolve_with_owner`], taking the owners rather than copying them: the
-/// mesher's own calls hand theirs over, since on a million-sample tree each
-/// copy is another 260 MB at the pass's peak.
-pub fn resolve_owned(mesh: &mut Mesh, owner: Vec<u32>) -> Resolved {
+/// Replaces `mesh` by the boundary of its union where its parts cross.
+/// `owner[f]` is the part of face `f` ([`NO_OWNER`] for faces to compare with
+/// everything; owners of the wrong length count as all [`NO_OWNER`]). Where
+/// a crossing cannot be cut, its faces are left as they were (see the module
+/// docs). The owners are taken rather than copied: on a million-sample tree
+/// each copy is another 260 MB at the pass's peak.
+pub fn resolve(mesh: &mut Mesh, owner: Vec<u32>) -> Resolved {
     let mut owner = owner;
     if owner.len() != mesh.faces.len() {
         owner = vec![NO_OWNER; mesh.faces.len()];
@@ -317,6 +302,11 @@ mod tests {
     use crate::kernel::bvh::Bvh;
     use crate::mesh::tests::cube;
 
+    /// The pass on `m` with a copy of `owner`, and what it did.
+    fn resolved(m: &mut Mesh, owner: &[u32]) -> Outcome {
+        resolve(m, owner.to_vec()).outcome
+    }
+
     /// Two unit cubes, the second moved by `d`, as one mesh with two parts.
     fn two_cubes(d: [f32; 3]) -> (Mesh, Vec<u32>) {
         let mut m = cube();
@@ -335,7 +325,7 @@ mod tests {
     fn crossing_cubes_become_their_union() {
         let d = [0.3, 0.4, 0.45];
         let (mut m, owner) = two_cubes(d);
-        let out = resolve(&mut m, &owner);
+        let out = resolved(&mut m, &owner);
         assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
         let r = m.check();
         assert!(r.is_valid(), "{r}");
@@ -382,7 +372,7 @@ mod tests {
         // Four faces of each cube lie in the planes of the other's: no
         // crossing is in general position until the nudge.
         let (mut m, owner) = two_cubes([0.5, 0.0, 0.0]);
-        let out = resolve(&mut m, &owner);
+        let out = resolved(&mut m, &owner);
         assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
         let r = m.check();
         assert!(r.is_valid(), "{r}");
@@ -533,7 +523,7 @@ mod tests {
         let mut m = cube();
         m.append(&turned_cube(r, at));
         let owner: Vec<u32> = (0..m.faces.len() as u32).map(|f| f / 12).collect();
-        let out = resolve(&mut m, &owner);
+        let out = resolved(&mut m, &owner);
         assert!(out.pairs > 0 && out.pairs_left == 0, "{out:?}");
         let rep = m.check();
         assert!(rep.is_valid(), "{rep}");
@@ -583,7 +573,7 @@ mod tests {
         m.append(&inner);
         // No face crosses another: nothing to do, the mesh stays as it is.
         let before = m.clone();
-        let out = resolve(&mut m, &owner);
+        let out = resolved(&mut m, &owner);
         assert_eq!(out, Outcome::default());
         assert_eq!(m, before);
     }
@@ -592,11 +582,11 @@ mod tests {
     fn apart_and_within_one_part_are_left_alone() {
         let (mut m, _) = two_cubes([3.0, 0.0, 0.0]);
         let before = m.clone();
-        assert_eq!(resolve(&mut m, &[]).pairs, 0);
+        assert_eq!(resolved(&mut m, &[]).pairs, 0);
         assert_eq!(m, before);
         // Crossing faces of one proven part are not looked at.
         let (mut m, _) = two_cubes([0.3, 0.4, 0.45]);
         let one = vec![0; m.faces.len()];
-        assert_eq!(resolve(&mut m, &one).pairs, 0);
+        assert_eq!(resolved(&mut m, &one).pairs, 0);
     }
 }

@@ -1,10 +1,11 @@
 //! Step 1: the pairs of faces of different parts that cross, found through
 //! a BVH over runs of consecutive faces of one part, and their clusters.
 
-use super::{NO_OWNER, RUN};
+use super::RUN;
 use crate::kernel::bvh::{Aabb, Bvh};
 use crate::kernel::hash::FastMap;
 use crate::kernel::vector::{P3, V3, at};
+use crate::mesh::NO_OWNER;
 
 /// Runs of up to [`RUN`] consecutive faces with one owner, and their boxes
 /// (for the BVH, which keeps them: the runs do not keep a copy).

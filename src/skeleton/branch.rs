@@ -45,6 +45,19 @@ pub struct Branch {
     pub attachment: Attachment,
 }
 
+impl Branch {
+    /// The sample each contour vertex of the branch is labelled with, per
+    /// point: a trunk's vertices carry neurite samples, never the soma's
+    /// (the soma sample is only where the trunk's track begins).
+    pub fn vertex_labels(&self) -> Vec<u32> {
+        let mut labels = self.samples.clone();
+        if matches!(self.attachment, Attachment::Soma { .. }) && labels.len() > 1 {
+            labels[0] = labels[1];
+        }
+        labels
+    }
+}
+
 /// Splits the morphology into branches, primaries before their secondaries.
 pub fn identify(m: &Morphology, angle_threshold_deg: f64) -> Vec<Branch> {
     let soma = m.soma_mask();

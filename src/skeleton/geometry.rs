@@ -20,6 +20,7 @@ pub fn frame_origin_of(morphology: &Morphology, scale: f64) -> [f64; 3] {
 }
 
 /// Positions and effective radii of the samples, ready for geometry.
+#[derive(Debug, Clone)]
 pub struct Geometry {
     /// Sample positions.
     pub pos: Vec<DVec3>,

@@ -165,13 +165,6 @@ impl Track {
         }
     }
 
-    /// Index of the point at arc length `s` or just after it.
-    pub fn at_arc(&self, s: f64) -> usize {
-        self.arc
-            .partition_point(|&a| a < s)
-            .min(self.samples.len() - 1)
-    }
-
     /// Clearance margin between consecutive kept contours.
     pub fn margin(&self, a: usize, b: usize) -> f64 {
         0.02 * self.radii[a].min(self.radii[b])

@@ -80,7 +80,7 @@ pub fn run(
             }
         }
     }
-    let threads = neuromesh::kernel::parallel::thread_count(jobs)?;
+    let threads = batch::thread_count(jobs)?;
     let done = outcomes.len() - failed;
     println!(
         "files      {} ({done} meshed, {failed} failed)",

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
-use neuromesh::{Error, Mesh, Morphology, Params, io, measure::summary::Summary};
+use neuromesh::{Error, Mesh, Morphology, Params, Summary, io};
 
 #[derive(Parser)]
 #[command(
@@ -111,7 +111,7 @@ fn main() -> ExitCode {
 /// Says on stderr when the radii cannot be in the coordinates' units (the
 /// output is made all the same).
 fn warn_radii(input: &std::path::Path, m: &Morphology) {
-    if let Some(why) = neuromesh::input::plausibility::radius_warning(m) {
+    if let Some(why) = m.radius_warning() {
         eprintln!("warning: {}: {why}", input.display());
     }
 }

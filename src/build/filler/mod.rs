@@ -58,11 +58,16 @@
 
 use glam::DVec3;
 
+mod select;
+
+pub use select::{FillerPlan, select};
+
 use crate::build::coverage::{fraction_outside, slices};
 use crate::build::surface::Surface;
 use crate::build::tube::pieces::{self, Caps};
 use crate::kernel::round_cone::RoundCone;
 use crate::params::Params;
+use crate::skeleton::branch::Branch;
 use crate::skeleton::track::Track;
 
 /// A filler is built when the volume it adds is estimated at this fraction
@@ -210,30 +215,44 @@ pub fn segment_track(
     Some(track)
 }
 
-/// Builds the fillers of `spans` into `surface` (closed pieces, each a part
-/// of its own) and returns, per piece, its span's index and its triangles.
-/// `track_of(k)` is the track span `k` runs along, `end_rings(k)` the rings
-/// of its end cap.
-pub fn build<'t>(
+/// Builds the fillers `plan` chose into `surface`, each piece closed and a
+/// part of its own, and returns per piece its filler's index in
+/// `plan.fillers` and its triangles. `branches` label the vertices.
+pub fn build(
     surface: &mut Surface,
-    spans: &[(u32, usize, usize)],
-    track_of: impl Fn(usize) -> &'t Track,
-    labels: impl Fn(usize) -> Vec<u32>,
-    start_rings: impl Fn(usize) -> u32,
-    end_rings: impl Fn(usize) -> u32,
+    plan: &FillerPlan,
+    branches: &[Branch],
+    cap_rings: u32,
 ) -> Vec<(u32, std::ops::Range<u32>)> {
     let mut parts = Vec::new();
-    for (k, &(b, from, end)) in spans.iter().enumerate() {
+    for (k, f) in plan.fillers.iter().enumerate() {
+        let straight = f.straight.as_ref();
         let caps = Caps {
             first_start: true,
             later_starts: true,
-            rings: start_rings(k),
-            end_rings: end_rings(k),
+            rings: match straight {
+                Some(s) if s.flat_start => 0,
+                _ => cap_rings,
+            },
+            // A trunk's straight first cone ends flat unless it ends at its
+            // sample and the sample's sphere holds the dome (see
+            // `plan::set_trunk_filler`).
+            end_rings: match straight {
+                Some(s) if s.flat_end || f.to < s.track.samples.len() => 0,
+                _ => cap_rings,
+            },
         };
-        let track = track_of(k).prefix(end);
+        let along = straight.map_or(&plan.tracks[f.branch as usize], |s| &s.track);
+        let track = along.prefix(f.to);
+        // A straight cone's points are its first sample and the next.
+        let labels = branches[f.branch as usize].vertex_labels();
+        let labels = match straight {
+            Some(s) => labels[s.first as usize..s.first as usize + 2].to_vec(),
+            None => labels,
+        };
         // Capped at every start, no piece is spliced: the anchor is unused.
         let anchor = track.samples[0].pos;
-        let pieces = pieces::build_pieces(surface, &track, &labels(k), b, from, anchor, caps);
+        let pieces = pieces::build_pieces(surface, &track, &labels, f.branch, f.from, anchor, caps);
         parts.extend(pieces.tubes.into_iter().map(|t| (k as u32, t.tris)));
     }
     parts

@@ -9,6 +9,7 @@ use crate::build::splice::index::tri_box;
 use crate::build::surface::Surface;
 use crate::build::tube::{self, Tube};
 use crate::kernel::bvh::Aabb;
+use crate::mesh::NO_OWNER;
 use crate::skeleton::frame::DiscFrame;
 
 impl Splicer<'_> {
@@ -87,7 +88,7 @@ impl Splicer<'_> {
         let (owner, settled) = (&self.owner, &self.settled);
         let Some((target, s)) = self.grid.raycast(self.surface, c1.center, dir, reach, |t| {
             let o = owner[t as usize];
-            o != tube_id && (o == u32::MAX || settled[o as usize])
+            o != tube_id && (o == NO_OWNER || settled[o as usize])
         }) else {
             return Err("ray hits nothing");
         };
@@ -264,7 +265,7 @@ impl Splicer<'_> {
             }
             return Err(why);
         }
-        self.adopt(first_tri, u32::MAX);
+        self.adopt(first_tri, NO_OWNER);
         Ok(())
     }
 

@@ -65,6 +65,7 @@ fn coarser(key: [i64; 3], scale: usize) -> [i64; 3] {
 impl TriangleGrid {
     /// An index over every triangle of `surface`, with the base cell from the
     /// median triangle size.
+    #[cfg(test)]
     pub fn new(surface: &Surface) -> TriangleGrid {
         Self::new_where(surface, |_| true)
     }

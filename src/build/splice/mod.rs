@@ -57,8 +57,8 @@ use crate::build::splice::index::TriangleGrid;
 use crate::build::surface::Surface;
 use crate::build::tube::{self, Tube};
 use crate::kernel::bvh::Aabb;
+use crate::mesh::NO_OWNER;
 use bridge::attempts;
-pub use region::boundary_loop;
 
 /// A tube to attach to the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,7 +87,7 @@ pub enum Method {
 pub struct Splicer<'a> {
     surface: &'a mut Surface,
     grid: TriangleGrid,
-    /// Tube of each triangle (u32::MAX for bridges).
+    /// Tube of each triangle ([`NO_OWNER`] for bridges).
     owner: Vec<u32>,
     /// Triangles no Q may take: the first band of every tube whose start is
     /// still open, since its ring borders a hole its own junction will fill.
@@ -116,7 +116,7 @@ impl<'a> Splicer<'a> {
         joins: &[Join],
         cap_rings: u32,
     ) -> Splicer<'a> {
-        let mut owner = vec![u32::MAX; surface.tris.len()];
+        let mut owner = vec![NO_OWNER; surface.tris.len()];
         for (i, t) in tubes.iter().enumerate() {
             for k in t.tris.clone() {
                 owner[k as usize] = i as u32;
@@ -150,7 +150,7 @@ impl<'a> Splicer<'a> {
 
     /// The part of every triangle of the surface, for the overlap pass: its
     /// tube, a number after the tubes' for each bridge, extension or connector,
-    /// and [`crate::overlap::NO_OWNER`] for the somas (compared with everything).
+    /// and [`crate::mesh::NO_OWNER`] for the somas (compared with everything).
     pub fn into_owner(self) -> Vec<u32> {
         let mut owner = self.owner;
         for (k, &[first, end]) in self.units.iter().enumerate() {
@@ -177,7 +177,7 @@ impl<'a> Splicer<'a> {
         if self.reach_back(join.tube, tube, join.toward) {
             // Its faces cross the surface it reaches into: compared with
             // everything by the overlap pass, which joins the two.
-            self.adopt(first, u32::MAX);
+            self.adopt(first, NO_OWNER);
             self.release(tube);
             return Method::Fallback;
         }
@@ -187,7 +187,7 @@ impl<'a> Splicer<'a> {
         self.adopt(first, join.tube);
         let first = self.surface.tris.len() as u32;
         let joined = self.connector(join.tube, tube, join.toward);
-        self.adopt(first, u32::MAX);
+        self.adopt(first, NO_OWNER);
         self.release(tube);
         if joined {
             Method::Fallback
@@ -264,7 +264,7 @@ impl<'a> Splicer<'a> {
                 dist,
                 |t| {
                     let o = owner[t as usize];
-                    o != tube_id && (o == u32::MAX || settled[o as usize])
+                    o != tube_id && (o == NO_OWNER || settled[o as usize])
                 },
             )
             .is_some();
@@ -347,7 +347,7 @@ impl<'a> Splicer<'a> {
     /// Registers triangles from `first` to the end of the surface.
     fn adopt(&mut self, first: u32, owner: u32) {
         let n = self.surface.tris.len();
-        if owner == u32::MAX && first < n as u32 {
+        if owner == NO_OWNER && first < n as u32 {
             self.units.push([first, n as u32]);
         }
         self.owner.resize(n, owner);
@@ -387,7 +387,7 @@ impl<'a> Splicer<'a> {
             let settled = &self.settled;
             self.grid.for_each_near(surface, &query, |t| {
                 let o = owner[t as usize];
-                if o == own || reserved[t as usize] || (o != u32::MAX && !settled[o as usize]) {
+                if o == own || reserved[t as usize] || (o != NO_OWNER && !settled[o as usize]) {
                     return;
                 }
                 let f = surface.tris[t as usize];
@@ -598,15 +598,15 @@ mod tests {
         let q: Vec<u32> = (0..6)
             .map(|i| s.triangle(c, rim[i], rim[(i + 1) % 6]))
             .collect();
-        let lp = boundary_loop(&s, &q).expect("a disk");
+        let lp = region::boundary_loop(&s, &q).expect("a disk");
         assert_eq!(lp.len(), 6);
         // Two fans sharing nothing: not a disk.
         let two = [q[0], q[3]];
-        assert!(boundary_loop(&s, &two).is_none());
+        assert!(region::boundary_loop(&s, &two).is_none());
         // A ring (annulus) is not a disk either.
         let annulus: Vec<u32> = q[..5].to_vec();
         assert!(
-            boundary_loop(&s, &annulus).is_some(),
+            region::boundary_loop(&s, &annulus).is_some(),
             "five of six fan triangles are still a disk"
         );
     }

@@ -22,7 +22,7 @@ pub mod pieces;
 
 use glam::DVec3;
 
-use crate::build::surface::Surface;
+use crate::build::surface::{Offset, Surface};
 use crate::skeleton::contour;
 use crate::skeleton::frame::DiscFrame;
 use crate::skeleton::track::Track;
@@ -101,6 +101,26 @@ pub struct Tube {
     /// The point it grows out of: the branch point of a secondary, the end of
     /// the previous piece for a later piece (splicing aims its ray there).
     pub anchor: DVec3,
+}
+
+impl Tube {
+    /// The tube as it stands in the surface its own was appended to at
+    /// `offset`, keeping its first [`KEPT_RINGS`] rings.
+    pub fn appended_at(mut self, offset: Offset) -> Tube {
+        self.rings.truncate(KEPT_RINGS);
+        self.rings.shrink_to_fit();
+        for r in &mut self.rings {
+            r.first = offset.vertex(r.first);
+        }
+        for b in &mut self.bands {
+            *b = offset.triangle(*b);
+        }
+        self.start_cap = offset.triangle_range(self.start_cap);
+        self.end_cap = offset.triangle_range(self.end_cap);
+        self.start_cap_vertices = offset.vertex_range(self.start_cap_vertices);
+        self.tris = offset.triangle_range(self.tris);
+        self
+    }
 }
 
 /// Places the contour of track point `i` into the surface, with first-vertex
