@@ -170,7 +170,6 @@ fn build_unchecked(
     label: u32,
 ) -> Result<(), &'static str> {
     let (c, r) = (sphere.center, sphere.radius);
-    let delta = spacing / r;
     // Footprints: each ring projected onto the sphere.
     let loops: Vec<Vec<DVec3>> = rings
         .iter()
@@ -184,8 +183,59 @@ fn build_unchecked(
     if loops.iter().flatten().any(|u| *u == DVec3::ZERO) {
         return Err("a contour vertex at the soma centre");
     }
+    let cover = triangulate_sphere(&loops, spacing / r)?;
+    // Lift back: the set and the footprints on the mesh sphere.
+    let first = surface.pos.len() as u32;
+    let first_tri = surface.tris.len();
+    for &u in &cover.points {
+        surface.vertex(c + r * u, label);
+    }
+    let id = |i: usize| first + i as u32;
+    let points = &cover.points;
+    let outward = |f: [usize; 3]| {
+        let [a, b, cc] = f.map(|i| points[i]);
+        (b - a).cross(cc - a).dot(a + b + cc) > 0.0
+    };
+    for f in &cover.faces {
+        if outward(*f) {
+            surface.triangle(id(f[0]), id(f[1]), id(f[2]));
+        } else {
+            surface.triangle(id(f[0]), id(f[2]), id(f[1]));
+        }
+    }
+    if !cover.holed {
+        fan_to_pole(surface, first, cover.faces.len(), c + r * cover.pole, label);
+    }
+    for ((ring, &s), lp) in rings.iter().zip(&cover.starts).zip(&loops) {
+        let footprint: Vec<u32> = (0..lp.len()).map(|j| id(s + j)).collect();
+        bridge_to_ring(surface, sphere, ring, lp, &footprint, spacing);
+    }
+    loops_are_consistent(surface, first, first_tri, &cover.starts, &loops)
+}
+
+/// The sphere's triangulation between the footprints, on the unit sphere.
+struct Cover {
+    /// The point set, then each footprint's loop.
+    points: Vec<DVec3>,
+    /// Where each footprint's loop begins in `points`.
+    starts: Vec<usize>,
+    /// Triangles (indices into `points`), not yet oriented.
+    faces: Vec<[usize; 3]>,
+    /// The projection's pole: the largest footprint's centre, or a point of
+    /// the set.
+    pole: DVec3,
+    /// Whether the pole lies in a footprint; if not, the hole around it is
+    /// left for [`fan_to_pole`].
+    holed: bool,
+}
+
+/// The Fibonacci point set of spacing `delta` (on the unit sphere) without
+/// what lies under or next to a footprint `loops`, with those loops,
+/// triangulated by spade in the stereographic projection from the largest
+/// footprint's centre (circles stay circles, so the planar Delaunay is the
+/// spherical one), the footprints' insides dropped.
+fn triangulate_sphere(loops: &[Vec<DVec3>], delta: f64) -> Result<Cover, &'static str> {
     let prints: Vec<Footprint> = loops.iter().map(|lp| footprint(lp)).collect();
-    // The point set, without what lies under or next to a footprint.
     let mut points: Vec<DVec3> = fibonacci(point_count(delta))
         .into_iter()
         .filter(|u| {
@@ -194,7 +244,6 @@ fn build_unchecked(
                 .all(|f| u.dot(f.dir).clamp(-1.0, 1.0).acos() > f.angle + 0.5 * delta)
         })
         .collect();
-    // The pole: the centre of the largest footprint, or a point of the set.
     let outer = (0..prints.len()).max_by(|&a, &b| prints[a].angle.total_cmp(&prints[b].angle));
     let pole = match outer {
         Some(k) => prints[k].dir,
@@ -209,7 +258,7 @@ fn build_unchecked(
     // All points on the unit sphere: the set, then each footprint's loop.
     let free = points.len();
     let mut starts = Vec::with_capacity(loops.len());
-    for lp in &loops {
+    for lp in loops {
         starts.push(points.len());
         points.extend_from_slice(lp);
     }
@@ -238,7 +287,7 @@ fn build_unchecked(
     }
     let polygons: Vec<Vec<[f64; 2]>> = starts
         .iter()
-        .zip(&loops)
+        .zip(loops)
         .map(|(&s, lp)| planar[s..s + lp.len()].to_vec())
         .collect();
     let mut faces: Vec<[usize; 3]> = Vec::with_capacity(2 * points.len());
@@ -252,62 +301,58 @@ fn build_unchecked(
         }
     }
     // A sphere with k holes bounded by B loop vertices and I inner points has
-    // 2I + B + 2k − 4 triangles; a sphere without holes gets its pole fan below.
+    // 2I + B + 2k − 4 triangles; a sphere without holes gets its pole fan.
     let boundary = points.len() - free;
     if outer.is_some() && faces.len() != 2 * free + boundary + 2 * loops.len() - 4 {
         return Err("the triangulation does not cover the sphere between the footprints");
     }
-    // Lift back: the set and the footprints on the mesh sphere.
-    let first = surface.pos.len() as u32;
-    let first_tri = surface.tris.len();
-    for &u in &points {
-        surface.vertex(c + r * u, label);
-    }
-    let id = |i: usize| first + i as u32;
-    let outward = |f: [usize; 3]| {
-        let [a, b, cc] = f.map(|i| points[i]);
-        (b - a).cross(cc - a).dot(a + b + cc) > 0.0
-    };
-    for f in &faces {
-        if outward(*f) {
-            surface.triangle(id(f[0]), id(f[1]), id(f[2]));
+    Ok(Cover {
+        points,
+        starts,
+        faces,
+        pole,
+        holed: outer.is_some(),
+    })
+}
+
+/// The bridge from a trunk's footprint on the sphere (`lp` on the unit
+/// sphere, its vertices `footprint`) to its first ring, in rings about one
+/// `spacing` apart.
+fn bridge_to_ring(
+    surface: &mut Surface,
+    sphere: &Sphere,
+    ring: &Ring,
+    lp: &[DVec3],
+    footprint: &[u32],
+    spacing: f64,
+) {
+    let (c, r) = (sphere.center, sphere.radius);
+    let m = lp.len();
+    let far = (0..m)
+        .map(|j| surface.pos[ring.vertex(j as u32) as usize].distance(c + r * lp[j]))
+        .fold(0.0, f64::max);
+    let levels = ((far / spacing).round() as usize).clamp(1, 64);
+    let mut below: Vec<u32> = footprint.to_vec();
+    for k in 1..=levels {
+        let above: Vec<u32> = if k == levels {
+            (0..m as u32).map(|j| ring.vertex(j)).collect()
         } else {
-            surface.triangle(id(f[0]), id(f[2]), id(f[1]));
+            let t = k as f64 / levels as f64;
+            (0..m)
+                .map(|j| {
+                    let top = surface.pos[ring.vertex(j as u32) as usize];
+                    let p = (c + r * lp[j]).lerp(top, t);
+                    surface.vertex(p, ring.label)
+                })
+                .collect()
+        };
+        for j in 0..m {
+            let jn = (j + 1) % m;
+            surface.triangle(below[j], below[jn], above[j]);
+            surface.triangle(below[jn], above[jn], above[j]);
         }
+        below = above;
     }
-    if outer.is_none() {
-        fan_to_pole(surface, first, faces.len(), c + r * pole, label);
-    }
-    // Bridges from each footprint to its ring.
-    for ((ring, &s), lp) in rings.iter().zip(&starts).zip(&loops) {
-        let m = lp.len();
-        let far = (0..m)
-            .map(|j| surface.pos[ring.vertex(j as u32) as usize].distance(c + r * lp[j]))
-            .fold(0.0, f64::max);
-        let levels = ((far / spacing).round() as usize).clamp(1, 64);
-        let mut below: Vec<u32> = (0..m).map(|j| id(s + j)).collect();
-        for k in 1..=levels {
-            let above: Vec<u32> = if k == levels {
-                (0..m as u32).map(|j| ring.vertex(j)).collect()
-            } else {
-                let t = k as f64 / levels as f64;
-                (0..m)
-                    .map(|j| {
-                        let top = surface.pos[ring.vertex(j as u32) as usize];
-                        let p = (c + r * lp[j]).lerp(top, t);
-                        surface.vertex(p, ring.label)
-                    })
-                    .collect()
-            };
-            for j in 0..m {
-                let jn = (j + 1) % m;
-                surface.triangle(below[j], below[jn], above[j]);
-                surface.triangle(below[jn], above[jn], above[j]);
-            }
-            below = above;
-        }
-    }
-    loops_are_consistent(surface, first, first_tri, &starts, &loops)
 }
 
 /// Closes the hole around the pole (the border of the triangulated faces,

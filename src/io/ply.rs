@@ -182,11 +182,46 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
     if bytes.get(body_start - 1) == Some(&b'\r') && bytes.get(body_start) == Some(&b'\n') {
         body_start += 1;
     }
+    let (enc, elements) = read_header(&header, &bad)?;
+    let mut body = Body {
+        bytes: &bytes[body_start..],
+        at: 0,
+        enc,
+    };
+    let mut mesh = Mesh::default();
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    for el in &elements {
+        read_element(el, &mut body, &mut mesh, &mut positions, &bad)?;
+    }
+    // Positions are read in f64 and stored around an origin near them, so a
+    // double-precision file far from the coordinates' origin keeps its detail.
+    let read = Mesh::from_positions(&positions, Vec::new()).map_err(|e| bad(0, e.to_string()))?;
+    mesh.vertices = read.vertices;
+    mesh.origin = read.origin;
+    Ok(mesh)
+}
+
+/// The header's encoding and elements.
+fn read_header(
+    header: &str,
+    bad: &impl Fn(usize, String) -> Error,
+) -> Result<(Encoding, Vec<Element>)> {
     let mut enc = None;
     let mut elements: Vec<Element> = Vec::new();
     for (i, line) in header.lines().enumerate() {
         let line_no = i + 1;
         let words: Vec<&str> = line.split_whitespace().collect();
+        let mut property = |list: Option<Scalar>, value: Scalar, name: &str| {
+            let el = elements
+                .last_mut()
+                .ok_or_else(|| bad(line_no, "property before any element".to_owned()))?;
+            el.props.push(Property {
+                name: name.to_owned(),
+                list,
+                value,
+            });
+            Ok::<(), Error>(())
+        };
         match words.as_slice() {
             ["ply"] if line_no == 1 => {}
             _ if line_no == 1 => {
@@ -212,100 +247,85 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh> {
                 let (Some(ct), Some(vt)) = (Scalar::parse(ct), Scalar::parse(vt)) else {
                     return Err(bad(line_no, format!("unknown property type in `{line}`")));
                 };
-                let el = elements
-                    .last_mut()
-                    .ok_or_else(|| bad(line_no, "property before any element".to_owned()))?;
-                el.props.push(Property {
-                    name: (*name).to_owned(),
-                    list: Some(ct),
-                    value: vt,
-                });
+                property(Some(ct), vt, name)?;
             }
             ["property", t, name] => {
                 let t = Scalar::parse(t)
                     .ok_or_else(|| bad(line_no, format!("unknown property type `{t}`")))?;
-                let el = elements
-                    .last_mut()
-                    .ok_or_else(|| bad(line_no, "property before any element".to_owned()))?;
-                el.props.push(Property {
-                    name: (*name).to_owned(),
-                    list: None,
-                    value: t,
-                });
+                property(None, t, name)?;
             }
             _ => return Err(bad(line_no, format!("unexpected header line `{line}`"))),
         }
     }
     let enc = enc.ok_or_else(|| bad(2, "missing `format` line".to_owned()))?;
-    let mut body = Body {
-        bytes: &bytes[body_start..],
-        at: 0,
-        enc,
-    };
-    let mut mesh = Mesh::default();
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    for el in &elements {
-        let is_vertex = el.name == "vertex";
-        let is_face = el.name == "face";
-        let xyz: Vec<Option<usize>> = ["x", "y", "z"]
-            .iter()
-            .map(|n| el.props.iter().position(|p| p.name == *n))
-            .collect();
-        if is_vertex && xyz.iter().any(Option::is_none) {
-            return Err(bad(0, "vertex element lacks x, y or z".to_owned()));
-        }
-        let sample_prop = el.props.iter().position(|p| p.name == "sample");
-        for row in 0..el.count {
-            let truncated = || {
-                bad(
-                    0,
-                    format!("file ends inside {} {row} of {}", el.name, el.count),
-                )
-            };
-            let mut pos = [0f64; 3];
-            let mut sample = None;
-            for (pi, p) in el.props.iter().enumerate() {
-                if let Some(ct) = p.list {
-                    let n = body.next(ct).ok_or_else(truncated)? as usize;
-                    let mut idx = Vec::with_capacity(n);
-                    for _ in 0..n {
-                        idx.push(body.next(p.value).ok_or_else(truncated)?);
+    Ok((enc, elements))
+}
+
+/// Reads the rows of element `el` from `body`: a vertex's position into
+/// `positions` and its `sample` into `mesh`, a face's polygon as a fan of
+/// triangles into `mesh`; other elements are skipped.
+fn read_element(
+    el: &Element,
+    body: &mut Body<'_>,
+    mesh: &mut Mesh,
+    positions: &mut Vec<[f64; 3]>,
+    bad: &impl Fn(usize, String) -> Error,
+) -> Result<()> {
+    let is_vertex = el.name == "vertex";
+    let is_face = el.name == "face";
+    let xyz: Vec<Option<usize>> = ["x", "y", "z"]
+        .iter()
+        .map(|n| el.props.iter().position(|p| p.name == *n))
+        .collect();
+    if is_vertex && xyz.iter().any(Option::is_none) {
+        return Err(bad(0, "vertex element lacks x, y or z".to_owned()));
+    }
+    let sample_prop = el.props.iter().position(|p| p.name == "sample");
+    for row in 0..el.count {
+        let truncated = || {
+            bad(
+                0,
+                format!("file ends inside {} {row} of {}", el.name, el.count),
+            )
+        };
+        let mut pos = [0f64; 3];
+        let mut sample = None;
+        for (pi, p) in el.props.iter().enumerate() {
+            if let Some(ct) = p.list {
+                let n = body.next(ct).ok_or_else(truncated)? as usize;
+                let mut idx = Vec::with_capacity(n);
+                for _ in 0..n {
+                    idx.push(body.next(p.value).ok_or_else(truncated)?);
+                }
+                if is_face && (p.name == "vertex_indices" || p.name == "vertex_index") {
+                    if n < 3 {
+                        return Err(bad(0, format!("face {row} has {n} vertices")));
                     }
-                    if is_face && (p.name == "vertex_indices" || p.name == "vertex_index") {
-                        if n < 3 {
-                            return Err(bad(0, format!("face {row} has {n} vertices")));
-                        }
-                        for k in 1..n - 1 {
-                            mesh.faces
-                                .push([idx[0] as u32, idx[k] as u32, idx[k + 1] as u32]);
-                        }
+                    for k in 1..n - 1 {
+                        mesh.faces
+                            .push([idx[0] as u32, idx[k] as u32, idx[k + 1] as u32]);
                     }
-                } else {
-                    let v = body.next(p.value).ok_or_else(truncated)?;
-                    if is_vertex {
-                        if let Some(a) = xyz.iter().position(|&x| x == Some(pi)) {
-                            pos[a] = v;
-                        }
-                        if sample_prop == Some(pi) {
-                            sample = Some(v as u32);
-                        }
+                }
+            } else {
+                let v = body.next(p.value).ok_or_else(truncated)?;
+                if is_vertex {
+                    if let Some(a) = xyz.iter().position(|&x| x == Some(pi)) {
+                        pos[a] = v;
+                    }
+                    if sample_prop == Some(pi) {
+                        sample = Some(v as u32);
                     }
                 }
             }
-            if is_vertex {
-                positions.push(pos);
-                if let Some(s) = sample {
-                    mesh.vertex_sample.push(s);
-                }
+        }
+        if is_vertex {
+            positions.push(pos);
+            if let Some(s) = sample {
+                mesh.vertex_sample.push(s);
             }
         }
     }
-    // Positions are read in f64 and stored around an origin near them, so a
-    // double-precision file far from the coordinates' origin keeps its detail.
-    let read = Mesh::from_positions(&positions, Vec::new()).map_err(|e| bad(0, e.to_string()))?;
-    mesh.vertices = read.vertices;
-    mesh.origin = read.origin;
-    Ok(mesh)
+    Ok(())
 }
 
 #[cfg(test)]

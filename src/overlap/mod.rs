@@ -43,11 +43,13 @@
 //!    on its own output, up to `ROUNDS` times. The report counts the
 //!    crossing pairs still left after the last.
 
+mod assembly;
 mod boundary;
 pub mod cut;
 pub mod cut_memo;
 mod pairs;
 mod patches;
+pub mod retriangulate;
 mod settle;
 mod verify;
 
@@ -384,8 +386,9 @@ mod tests {
 
     #[test]
     fn remembered_pieces_are_those_of_a_fresh_cut() {
-        use crate::overlap::cut::{Cuts, retriangulate, retriangulate_with};
+        use crate::overlap::cut::Cuts;
         use crate::overlap::cut_memo::Memo;
+        use crate::overlap::retriangulate::{retriangulate, retriangulate_with};
         let (mut m, owner) = two_cubes([0.3, 0.4, 0.45]);
         let positions = |m: &Mesh| -> Vec<V3> { m.vertices.clone() };
         let pairs_of = |pos: &[V3], m: &Mesh| {

@@ -277,3 +277,70 @@ pub(super) fn winding(
     });
     (w, near)
 }
+
+/// One try of the union: the patches (numbered `0..n_patches`) with the
+/// clusters cut then, the live faces and the kept ones.
+pub(super) struct Tried {
+    pub(super) patch: Vec<u32>,
+    pub(super) n_patches: usize,
+    pub(super) alive: Vec<bool>,
+    pub(super) kept: Vec<bool>,
+}
+
+/// The faces kept once clusters more are left uncut, updating the try
+/// before in place (its patches stay as they were numbered): the old faces
+/// `back` of those clusters live again and are kept, the pieces `gone`
+/// accepts die, and every patch with a live face at a corner of `back` is
+/// kept whole.
+///
+/// That is the verdict fresh patches would get. Patches join only through
+/// the faces that came back, and a patch holding one of them is always
+/// kept; a piece that went joined its patch only through an old corner of
+/// its cluster (its new corners are its cluster's alone), so what a patch
+/// splits into still reaches a corner of `back`. Every other patch keeps its
+/// faces, so its sample face and verdict. Two passes over the flags replace
+/// the disjoint sets, the face areas and the rays of a full try.
+pub(super) fn leave_uncut(
+    faces: &[[u32; 3]],
+    n_old: usize,
+    first_piece: usize,
+    back: &[u32],
+    gone: impl Fn(usize) -> bool,
+    tried: &mut Tried,
+) {
+    let Tried {
+        patch,
+        n_patches,
+        alive,
+        kept,
+    } = tried;
+    let mut corner = vec![false; n_old];
+    for &f in back {
+        alive[f as usize] = true;
+        kept[f as usize] = true;
+        for k in faces[f as usize] {
+            corner[k as usize] = true;
+        }
+    }
+    for f in first_piece..faces.len() {
+        if alive[f] && gone(f) {
+            alive[f] = false;
+            kept[f] = false;
+        }
+    }
+    let mut touched = vec![false; *n_patches];
+    for (f, face) in faces.iter().enumerate() {
+        if alive[f]
+            && face
+                .iter()
+                .any(|&k| (k as usize) < n_old && corner[k as usize])
+        {
+            touched[patch[f] as usize] = true;
+        }
+    }
+    for (f, k) in kept.iter_mut().enumerate() {
+        if alive[f] && touched[patch[f] as usize] {
+            *k = true;
+        }
+    }
+}

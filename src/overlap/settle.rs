@@ -28,8 +28,9 @@ use crate::kernel::bvh::{Aabb, Bvh};
 use crate::kernel::hash::FastMap;
 use crate::kernel::vector::{P3, V3, at};
 use crate::mesh::Mesh;
-use crate::overlap::cut::{self, Cuts, Pieces, Refusal};
+use crate::overlap::cut::{Cuts, Refusal};
 use crate::overlap::cut_memo::Memo;
+use crate::overlap::retriangulate::{self, Pieces};
 
 /// How many times a round nudges the clusters whose cut is refused and cuts
 /// again before it goes on with them left uncut (a later round nudges them
@@ -166,7 +167,7 @@ fn cut_remembering(
     };
     let mut record = (cluster.len() >= MEMO_PAIRS).then(Memo::default);
     let reuse = (!reuse.is_empty()).then_some(reuse);
-    match cut::retriangulate_with(pos, faces, &mut cuts, reuse, record.as_mut()) {
+    match retriangulate::retriangulate_with(pos, faces, &mut cuts, reuse, record.as_mut()) {
         Ok(pieces) => (Ok((cuts, pieces)), None),
         Err(r) => (Err(r), record),
     }

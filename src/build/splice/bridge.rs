@@ -6,8 +6,8 @@ use glam::DVec3;
 use super::Splicer;
 use super::region::{boundary_loop, tri_normal};
 use crate::build::splice::index::tri_box;
-use crate::build::surface::Surface;
-use crate::build::tube::{self, Tube};
+use crate::build::surface::{Mark, Surface};
+use crate::build::tube::{self, Ring, Tube};
 use crate::kernel::bvh::Aabb;
 use crate::mesh::NO_OWNER;
 use crate::skeleton::frame::DiscFrame;
@@ -48,6 +48,8 @@ impl Splicer<'_> {
         ok
     }
 
+    /// The bridge of attempt `a` from ring `a.ring` of `tube` (steps 1 to 4
+    /// of the module docs), committed if its proof holds.
     fn bridge(
         &mut self,
         tube_id: u32,
@@ -56,10 +58,36 @@ impl Splicer<'_> {
         toward: DVec3,
         dropped: &[u32],
     ) -> Result<(), &'static str> {
-        let k = a.ring;
-        let c1 = tube.rings[k];
-        // 1. Target.
-        let aim_point = match a.aim {
+        let c1 = tube.rings[a.ring];
+        // An oblique secondary needs the tilted C_loc between it and the target.
+        let min_cos = if a.tilted { 0.02 } else { 0.2 };
+        let landing = self.land(tube_id, &c1, a.aim, toward, min_cos)?;
+        let region = self.open_region(tube_id, &c1, &landing, a.footprint, min_cos)?;
+        let contours = self.bridge_contours(&c1, &landing, &region, a.tilted)?;
+        let (mark, first_tri) = self.lay_bridge(&c1, &landing, &region, &contours);
+        let removed: Vec<u32> = region.q.iter().chain(dropped).copied().collect();
+        if let Err(why) = self.bridge_is_clear(first_tri, &removed) {
+            self.surface.rollback(mark);
+            for &t in &region.q {
+                self.surface.alive[t as usize] = true;
+            }
+            return Err(why);
+        }
+        self.adopt(first_tri, NO_OWNER);
+        Ok(())
+    }
+
+    /// Step 1: where a ray from ring `c1` toward `aim` lands on a surface the
+    /// tube may join.
+    fn land(
+        &mut self,
+        tube_id: u32,
+        c1: &Ring,
+        aim: Aim,
+        toward: DVec3,
+        min_cos: f64,
+    ) -> Result<Landing, &'static str> {
+        let aim_point = match aim {
             Aim::BranchPoint => Some(toward),
             Aim::NearestSurface => self.nearest_surface_point(
                 tube_id,
@@ -101,14 +129,25 @@ impl Splicer<'_> {
         if n_t.dot(c1.center - h) <= 0.0 || axis == DVec3::ZERO {
             return Err("target faces away");
         }
-        // An oblique secondary needs the tilted C_loc between it and the target.
-        let min_cos = if a.tilted { 0.02 } else { 0.2 };
         if c1.normal.dot(n_t) < min_cos {
             return Err("secondary too oblique to the target");
         }
-        // 2. Region Q.
-        let rho = c1.radius * a.footprint;
-        let Some(q) = self.grow_region(tube_id, target, h, axis, rho) else {
+        Ok(Landing { target, h, axis })
+    }
+
+    /// Step 2: region Q around the landing, `footprint` times the ring's
+    /// radius across, and the plane of the splice.
+    fn open_region(
+        &mut self,
+        tube_id: u32,
+        c1: &Ring,
+        landing: &Landing,
+        footprint: f64,
+        min_cos: f64,
+    ) -> Result<Region, &'static str> {
+        let h = landing.h;
+        let rho = c1.radius * footprint;
+        let Some(q) = self.grow_region(tube_id, landing.target, h, landing.axis, rho) else {
             return Err("region Q could not be grown");
         };
         let Some(c_q) = boundary_loop(self.surface, &q) else {
@@ -133,14 +172,39 @@ impl Splicer<'_> {
         }
         let e1 = crate::kernel::vector::any_perpendicular(n_q);
         let e2 = n_q.cross(e1);
-        let flat = |p: DVec3| [(p - h).dot(e1), (p - h).dot(e2)];
-        let rim: Vec<[f64; 2]> = c_q
+        let mut region = Region {
+            q,
+            c_q,
+            n_q,
+            e1,
+            e2,
+            rim: Vec::new(),
+        };
+        region.rim = region
+            .c_q
             .iter()
-            .map(|&v| flat(self.surface.pos[v as usize]))
+            .map(|&v| region.flat(h, self.surface.pos[v as usize]))
             .collect();
-        if !crate::kernel::planar::inside_polygon([0.0, 0.0], &rim) {
+        if !crate::kernel::planar::inside_polygon([0.0, 0.0], &region.rim) {
             return Err("Q does not surround the hit point");
         }
+        Ok(region)
+    }
+
+    /// Step 3: the bridge contours. The paper's C_loc lies in the target's
+    /// plane; the tilted variant turns it half-way towards C_1sec, for
+    /// secondaries that leave obliquely. Either way C_loc is lifted until the
+    /// whole rim lies behind its plane, so the skirt (a height field over the
+    /// splice plane, below C_loc) and the bands above C_loc cannot meet, and
+    /// its projection lies strictly inside the rim's.
+    fn bridge_contours(
+        &self,
+        c1: &Ring,
+        landing: &Landing,
+        region: &Region,
+        tilted: bool,
+    ) -> Result<Contours, &'static str> {
+        let (h, n_q, rim, c_q) = (landing.h, region.n_q, &region.rim, &region.c_q);
         // Distance from the hit point to the rim's edges, in projection.
         let inradius = (0..rim.len())
             .map(|i| point_segment_2d([0.0, 0.0], rim[i], rim[(i + 1) % rim.len()]))
@@ -155,13 +219,7 @@ impl Splicer<'_> {
                 .sum::<f64>()
                 / n as f64
         };
-        // 3. Bridge contours. The paper's C_loc lies in the target's plane; the
-        // tilted variant turns it half-way towards C_1sec, for secondaries that
-        // leave obliquely. Either way C_loc is lifted until the whole rim lies
-        // behind its plane, so the skirt (a height field over the splice plane,
-        // below C_loc) and the bands above C_loc cannot meet, and its
-        // projection lies strictly inside the rim's.
-        let n_loc = if a.tilted {
+        let n_loc = if tilted {
             (n_q + c1.normal).normalize_or_zero()
         } else {
             n_q
@@ -189,8 +247,8 @@ impl Splicer<'_> {
         let Some(loc) = contour_at(loc_center, n_loc, r_loc) else {
             return Err("degenerate C_loc");
         };
-        let loc_flat: Vec<[f64; 2]> = loc.iter().map(|&p| flat(p)).collect();
-        let Some(skirt) = crate::kernel::planar::triangulate_annulus(&rim, &loc_flat) else {
+        let loc_flat: Vec<[f64; 2]> = loc.iter().map(|&p| region.flat(h, p)).collect();
+        let Some(skirt) = crate::kernel::planar::triangulate_annulus(rim, &loc_flat) else {
             return Err("skirt cannot be triangulated");
         };
         let d_min = loc
@@ -223,19 +281,37 @@ impl Splicer<'_> {
         if frames.windows(2).any(|w| !w[0].clears(&w[1], 0.0)) {
             return Err("middle contours cross");
         }
-        // Build the bridge tentatively.
+        Ok(Contours {
+            frames,
+            contours,
+            skirt,
+        })
+    }
+
+    /// The bridge built tentatively: Q removed, the skirt from its rim to
+    /// C_loc and the bands through the middle contours to C_1sec. The mark
+    /// to roll back to and the bridge's first triangle.
+    fn lay_bridge(
+        &mut self,
+        c1: &Ring,
+        landing: &Landing,
+        region: &Region,
+        bridge: &Contours,
+    ) -> (Mark, u32) {
         let mark = self.surface.mark();
-        for &t in &q {
+        for &t in &region.q {
             self.surface.alive[t as usize] = false;
         }
+        let target = landing.target;
         let primary_label = self.surface.label[self.surface.tris[target as usize][0] as usize];
-        let mut loops: Vec<Vec<u32>> = Vec::with_capacity(contours.len() + 1);
-        for (i, c) in contours.iter().enumerate() {
+        let mut loops: Vec<Vec<u32>> = Vec::with_capacity(bridge.contours.len() + 1);
+        for (i, c) in bridge.contours.iter().enumerate() {
             let label = if i == 0 { primary_label } else { c1.label };
             loops.push(c.iter().map(|&p| self.surface.vertex(p, label)).collect());
         }
-        loops.push(tube::ring_loop(&c1));
+        loops.push(tube::ring_loop(c1));
         let first_tri = self.surface.tris.len() as u32;
+        let c_q = &region.c_q;
         let skirt_vertex = |i: usize| {
             if i < c_q.len() {
                 c_q[i]
@@ -243,10 +319,11 @@ impl Splicer<'_> {
                 loops[0][i - c_q.len()]
             }
         };
-        for t in &skirt {
+        for t in &bridge.skirt {
             let v = t.map(skirt_vertex);
             self.surface.triangle(v[0], v[1], v[2]);
         }
+        let frames = &bridge.frames;
         for (i, w) in loops.windows(2).enumerate() {
             tube::connect_loops(
                 self.surface,
@@ -256,17 +333,7 @@ impl Splicer<'_> {
                 frames[i + 1].center,
             );
         }
-        // 4. Proof.
-        let removed: Vec<u32> = q.iter().chain(dropped).copied().collect();
-        if let Err(why) = self.bridge_is_clear(first_tri, &removed) {
-            self.surface.rollback(mark);
-            for &t in &q {
-                self.surface.alive[t as usize] = true;
-            }
-            return Err(why);
-        }
-        self.adopt(first_tri, NO_OWNER);
-        Ok(())
+        (mark, first_tri)
     }
 
     /// Whether the triangles from `first` on meet no other live triangle
@@ -362,6 +429,47 @@ impl Splicer<'_> {
         }
         Ok(())
     }
+}
+
+/// Where a bridge's ray lands (step 1).
+struct Landing {
+    /// The triangle hit.
+    target: u32,
+    /// The point hit.
+    h: DVec3,
+    /// The unit direction from the hit point back to the ring's centre.
+    axis: DVec3,
+}
+
+/// Region Q and the plane of the splice (step 2).
+struct Region {
+    /// Q's triangles.
+    q: Vec<u32>,
+    /// Q's rim C_Q, a vertex loop.
+    c_q: Vec<u32>,
+    /// Q's mean normal.
+    n_q: DVec3,
+    /// A basis of the splice plane.
+    e1: DVec3,
+    e2: DVec3,
+    /// The rim in the splice plane, around the hit point.
+    rim: Vec<[f64; 2]>,
+}
+
+impl Region {
+    /// Point `p` in the splice plane around the hit point `h`.
+    fn flat(&self, h: DVec3, p: DVec3) -> [f64; 2] {
+        [(p - h).dot(self.e1), (p - h).dot(self.e2)]
+    }
+}
+
+/// The bridge's contours (step 3): C_loc and the middle contours, their
+/// discs (with C_1sec's last), and the skirt from the rim to C_loc (rim
+/// vertices first, then C_loc's).
+struct Contours {
+    frames: Vec<DiscFrame>,
+    contours: Vec<Vec<DVec3>>,
+    skirt: Vec<[usize; 3]>,
 }
 
 /// Where an attempt casts its ray from C_1sec's centre.

@@ -285,97 +285,20 @@ pub fn build_pieces(
     let cell = (4.0 * radii[radii.len() / 2])
         .max(2.0 * track.edge)
         .max(1e-300);
-    let mut tubes = Vec::new();
-    let mut skipped = 0u32;
-    let mut segments = Vec::new();
+    let mut out = Pieces::default();
     let mut start = first.min(n - 1);
-    let mut first_piece = true;
     let mut anchor = anchor;
     loop {
-        let piece_first_tri = surface.tris.len() as u32;
-        let mut guard = Guard::new(cell);
-        let ring0 = tube::place_ring(surface, track, start, track.frames[start], labels);
-        let mut rings = vec![ring0];
-        let mut bands = Vec::new();
-        let mut part_ids: Vec<u32> = Vec::new();
-        let cap_start = if first_piece {
+        let cap_start = if out.tubes.is_empty() {
             caps.first_start
         } else {
             caps.later_starts
         };
-        let (mut start_cap, mut start_cap_vertices) = (0..0, 0..0);
-        let mut start_part = None;
-        if cap_start {
-            let (tris, verts) = tube::cap(surface, &ring0, caps.rings, false);
-            start_part = Some(guard.add(Part::cap(
-                &ring0,
-                false,
-                cap_height(&ring0, caps.rings),
-                tris.clone(),
-            )));
-            start_cap = tris;
-            start_cap_vertices = verts;
-        }
-        let mut split_at = None;
-        for k in start + 1..n {
-            let last = rings[rings.len() - 1];
-            let j = last.resampled as usize;
-            if !may_follow(track, j, k) {
-                skipped += 1;
-                let reach =
-                    4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
-                if track.arc[k] - track.arc[j] > reach {
-                    split_at = Some(k);
-                    break;
-                }
-                continue;
-            }
-            let mark = surface.mark();
-            let u =
-                crate::skeleton::frame::push_forward(last.u, last.normal, track.samples[k].tangent);
-            let ring = tube::place_ring(surface, track, k, u, labels);
-            let t0 = surface.tris.len() as u32;
-            tube::connect(surface, &last, &ring);
-            let part = Part::band(&last, &ring, t0..surface.tris.len() as u32);
-            let neighbour = part_ids.last().copied().or(start_part);
-            if guard.collides(surface, &part, neighbour.as_slice()) {
-                surface.rollback(mark);
-                split_at = Some(k);
-                break;
-            }
-            part_ids.push(guard.add(part));
-            bands.push(t0);
-            rings.push(ring);
-        }
-        // End cap, pulled back while it would meet an earlier band.
-        let end_cap = loop {
-            let last = rings[rings.len() - 1];
-            let mark = surface.mark();
-            let (tris, _) = tube::cap(surface, &last, caps.end_rings, true);
-            let part = Part::cap(&last, true, cap_height(&last, caps.end_rings), tris.clone());
-            let mut skip: Vec<u32> = part_ids.last().copied().into_iter().collect();
-            if rings.len() == 1 {
-                skip.extend(start_part);
-            }
-            if rings.len() == 1 || !guard.collides(surface, &part, &skip) {
-                break tris;
-            }
-            // Drop the last ring and its band (they are the newest vertices and
-            // triangles before the cap) and try again one contour earlier.
-            surface.rollback(mark);
-            let band_start = bands.pop().expect("a band per ring after the first");
-            let ring = rings.pop().expect("more than one ring");
-            surface.rollback(crate::build::surface::Mark {
-                vertices: ring.first as usize,
-                triangles: band_start as usize,
-            });
-            guard.pop();
-            part_ids.pop();
-            skipped += 1;
-        };
-        bands.push(end_cap.start);
-        let last = rings[rings.len() - 1];
-        let piece_start = rings[0].resampled as usize;
+        let mut piece = Piece::start(surface, track, labels, start, cap_start, caps.rings, cell);
+        let split_at = piece.extend(surface, track, labels, &mut out.skipped);
+        let end_cap = piece.close(surface, caps.end_rings, &mut out.skipped);
+        let last = piece.rings[piece.rings.len() - 1];
+        let piece_start = piece.rings[0].resampled as usize;
         // Split only when the rest of the branch is worth a piece of its own;
         // otherwise the contours past the end cap are this piece's to cover.
         let next = split_at.filter(|&k| {
@@ -387,21 +310,12 @@ pub fn build_pieces(
             n
         };
         let dome = cap_height(&last, caps.end_rings);
-        let kept: Vec<usize> = rings.iter().map(|r| r.resampled as usize).collect();
-        segments.extend(crate::build::coverage::skipped_segments(
-            track, &kept, tail, dome,
-        ));
-        tubes.push(Tube {
-            branch,
-            rings,
-            bands,
-            start_cap,
-            end_cap: end_cap.clone(),
-            start_cap_vertices,
-            tris: piece_first_tri..end_cap.end,
-            anchor,
-        });
-        first_piece = false;
+        let kept: Vec<usize> = piece.rings.iter().map(|r| r.resampled as usize).collect();
+        out.segments
+            .extend(crate::build::coverage::skipped_segments(
+                track, &kept, tail, dome,
+            ));
+        out.tubes.push(piece.into_tube(branch, end_cap, anchor));
         let Some(next) = next else {
             break;
         };
@@ -409,50 +323,212 @@ pub fn build_pieces(
         anchor = last.center;
         if caps.later_starts {
             start = next;
-        } else {
-            // Spliced later: begin where the contours clear this piece's volume
-            // (its round cones and end cap).
-            let mut volume =
-                crate::build::coverage::cones(track, piece_start, last.resampled as usize);
-            let h = cap_height(&last, caps.end_rings);
-            volume.push(crate::kernel::round_cone::RoundCone::sphere(last.center, h));
-            let found = crate::build::coverage::first_outside_from(track, next, &volume);
-            // The contours between the pieces that reach out of this one's
-            // volume: where the branch turns back on itself (a zig-zag of
-            // segments shorter than their radius, a hairpin) they are its
-            // only cover, and without a filler most of a segment is lost.
-            // What lies outside the next piece's first stretch (four radii
-            // along the track) counts too, which covers the gap's end.
-            let after = last.resampled as usize + 1;
-            let end = found.unwrap_or(n);
-            if let Some(k) = found {
-                let reach = track.arc[k] + 4.0 * track.radii[k];
-                let far = k + track.arc[k..].partition_point(|&a| a <= reach);
-                volume.extend(crate::build::coverage::cones(track, k, far));
-            }
-            segments.extend(crate::build::coverage::segment_gains(
-                track,
-                after..end,
-                &volume,
-            ));
-            match found {
-                Some(k) => start = k,
-                None => break,
-            }
+            continue;
+        }
+        match spliced_start(
+            track,
+            piece_start,
+            &last,
+            caps.end_rings,
+            next,
+            &mut out.segments,
+        ) {
+            Some(k) => start = k,
+            None => break,
         }
     }
-    segments.sort_by_key(|s| s.0);
-    segments.dedup_by(|b, a| {
+    out.segments.sort_by_key(|s| s.0);
+    out.segments.dedup_by(|b, a| {
         let same = a.0 == b.0;
         if same {
             a.1 += b.1;
         }
         same
     });
-    Pieces {
-        tubes,
-        skipped,
-        segments,
+    out
+}
+
+/// Where a piece that will be spliced begins after the piece before ended
+/// at ring `last` (its first contour at `piece_start`) and would have gone
+/// on at track point `next`: at the first contour clear of that piece's
+/// volume (its round cones and end cap), if any. The contours between the
+/// pieces that reach out of that volume go into `segments`: where the
+/// branch turns back on itself (a zig-zag of segments shorter than their
+/// radius, a hairpin) they are its only cover, and without a filler most of
+/// a segment is lost. What lies outside the next piece's first stretch
+/// (four radii along the track) counts too, which covers the gap's end.
+fn spliced_start(
+    track: &Track,
+    piece_start: usize,
+    last: &Ring,
+    end_rings: u32,
+    next: usize,
+    segments: &mut Vec<(u32, f64)>,
+) -> Option<usize> {
+    let n = track.samples.len();
+    let mut volume = crate::build::coverage::cones(track, piece_start, last.resampled as usize);
+    let h = cap_height(last, end_rings);
+    volume.push(crate::kernel::round_cone::RoundCone::sphere(last.center, h));
+    let found = crate::build::coverage::first_outside_from(track, next, &volume);
+    let after = last.resampled as usize + 1;
+    let end = found.unwrap_or(n);
+    if let Some(k) = found {
+        let reach = track.arc[k] + 4.0 * track.radii[k];
+        let far = k + track.arc[k..].partition_point(|&a| a <= reach);
+        volume.extend(crate::build::coverage::cones(track, k, far));
+    }
+    segments.extend(crate::build::coverage::segment_gains(
+        track,
+        after..end,
+        &volume,
+    ));
+    found
+}
+
+/// One piece as it is built: its rings and bands, its start cap, and the
+/// guard that keeps its parts apart.
+struct Piece {
+    guard: Guard,
+    first_tri: u32,
+    rings: Vec<Ring>,
+    /// First triangle of each band.
+    bands: Vec<u32>,
+    /// The guard's part of each band.
+    part_ids: Vec<u32>,
+    start_cap: Range<u32>,
+    start_cap_vertices: Range<u32>,
+    /// The guard's part of the start cap, if there is one.
+    start_part: Option<u32>,
+}
+
+impl Piece {
+    /// A piece at track point `start`: its first ring, capped with `rings`
+    /// rings if `cap`.
+    fn start(
+        surface: &mut Surface,
+        track: &Track,
+        labels: &[u32],
+        start: usize,
+        cap: bool,
+        rings: u32,
+        cell: f64,
+    ) -> Piece {
+        let first_tri = surface.tris.len() as u32;
+        let mut guard = Guard::new(cell);
+        let ring0 = tube::place_ring(surface, track, start, track.frames[start], labels);
+        let (mut start_cap, mut start_cap_vertices) = (0..0, 0..0);
+        let mut start_part = None;
+        if cap {
+            let (tris, verts) = tube::cap(surface, &ring0, rings, false);
+            start_part = Some(guard.add(Part::cap(
+                &ring0,
+                false,
+                cap_height(&ring0, rings),
+                tris.clone(),
+            )));
+            start_cap = tris;
+            start_cap_vertices = verts;
+        }
+        Piece {
+            guard,
+            first_tri,
+            rings: vec![ring0],
+            bands: Vec::new(),
+            part_ids: Vec::new(),
+            start_cap,
+            start_cap_vertices,
+            start_part,
+        }
+    }
+
+    /// Adds the contours after the last ring that may follow it, each with
+    /// its band, up to the first band that would meet an earlier part of
+    /// the piece or a gap of skipped contours too long to bridge: the track
+    /// point the piece stops at, if it stops before the track's end.
+    /// Contours left out are counted in `skipped`.
+    fn extend(
+        &mut self,
+        surface: &mut Surface,
+        track: &Track,
+        labels: &[u32],
+        skipped: &mut u32,
+    ) -> Option<usize> {
+        let start = self.rings[0].resampled as usize;
+        for k in start + 1..track.samples.len() {
+            let last = self.rings[self.rings.len() - 1];
+            let j = last.resampled as usize;
+            if !may_follow(track, j, k) {
+                *skipped += 1;
+                let reach =
+                    4.0 * track.samples[j].radius.max(track.samples[k].radius) + 2.0 * track.edge;
+                if track.arc[k] - track.arc[j] > reach {
+                    return Some(k);
+                }
+                continue;
+            }
+            let mark = surface.mark();
+            let u =
+                crate::skeleton::frame::push_forward(last.u, last.normal, track.samples[k].tangent);
+            let ring = tube::place_ring(surface, track, k, u, labels);
+            let t0 = surface.tris.len() as u32;
+            tube::connect(surface, &last, &ring);
+            let part = Part::band(&last, &ring, t0..surface.tris.len() as u32);
+            let neighbour = self.part_ids.last().copied().or(self.start_part);
+            if self.guard.collides(surface, &part, neighbour.as_slice()) {
+                surface.rollback(mark);
+                return Some(k);
+            }
+            self.part_ids.push(self.guard.add(part));
+            self.bands.push(t0);
+            self.rings.push(ring);
+        }
+        None
+    }
+
+    /// The end cap with `end_rings` rings, pulled back one contour at a time
+    /// while it would meet an earlier band (each contour given up counted
+    /// in `skipped`): its triangles.
+    fn close(&mut self, surface: &mut Surface, end_rings: u32, skipped: &mut u32) -> Range<u32> {
+        loop {
+            let last = self.rings[self.rings.len() - 1];
+            let mark = surface.mark();
+            let (tris, _) = tube::cap(surface, &last, end_rings, true);
+            let part = Part::cap(&last, true, cap_height(&last, end_rings), tris.clone());
+            let mut skip: Vec<u32> = self.part_ids.last().copied().into_iter().collect();
+            if self.rings.len() == 1 {
+                skip.extend(self.start_part);
+            }
+            if self.rings.len() == 1 || !self.guard.collides(surface, &part, &skip) {
+                return tris;
+            }
+            // Drop the last ring and its band (they are the newest vertices and
+            // triangles before the cap) and try again one contour earlier.
+            surface.rollback(mark);
+            let band_start = self.bands.pop().expect("a band per ring after the first");
+            let ring = self.rings.pop().expect("more than one ring");
+            surface.rollback(crate::build::surface::Mark {
+                vertices: ring.first as usize,
+                triangles: band_start as usize,
+            });
+            self.guard.pop();
+            self.part_ids.pop();
+            *skipped += 1;
+        }
+    }
+
+    /// The finished piece, closed by `end_cap`, growing out of `anchor`.
+    fn into_tube(mut self, branch: u32, end_cap: Range<u32>, anchor: DVec3) -> Tube {
+        self.bands.push(end_cap.start);
+        Tube {
+            branch,
+            rings: self.rings,
+            bands: self.bands,
+            start_cap: self.start_cap,
+            end_cap: end_cap.clone(),
+            start_cap_vertices: self.start_cap_vertices,
+            tris: self.first_tri..end_cap.end,
+            anchor,
+        }
     }
 }
 

@@ -14,33 +14,99 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         samples,
         comment_lines,
     } = file;
-    let n = samples.len();
+    let parent = link_parents(&samples, &path)?;
+    check_acyclic(&samples, &parent, &path)?;
+    let mut cleaning = Cleaning::default();
+    let kept = merge_duplicates(&samples, &parent, &mut cleaning);
+    let Kept {
+        ids,
+        kinds,
+        pos,
+        lines,
+        mut radius,
+        file_parent,
+    } = kept;
+    let adj = Adjacency::of(&file_parent);
+    let (tree_of, components) = trees_of(&file_parent, &adj);
+    fill_missing_radii(
+        &mut radius,
+        &pos,
+        &file_parent,
+        &components,
+        &kinds,
+        &adj.start,
+        &adj.list,
+        &mut cleaning,
+    );
+    let (trees, parent, order) = rooted_at_somas(&components, &kinds, &pos, &radius, &adj);
+    let (child_start, child_list) = children_of(&parent, trees.len());
+    Ok(Morphology {
+        name: path,
+        ids,
+        kinds,
+        pos,
+        radius,
+        lines,
+        file_parent,
+        parent,
+        child_start,
+        child_list,
+        order,
+        tree_of,
+        trees,
+        cleaning,
+        comment_lines,
+    })
+}
+
+/// Step 1: each sample's parent as an index ([`NO_PARENT`] for a root); a
+/// sample that is its own parent, or whose parent id does not exist, is an
+/// error at its line.
+fn link_parents(samples: &[RawSample], path: &str) -> Result<Vec<u32>> {
     // The reader refused repeated ids.
     let index = crate::input::swc::IdIndex::new(samples.iter().map(|s| s.id))
-        .map_err(|(second, _)| Error::swc(&path, samples[second].line as usize, "duplicate id"))?;
-    let mut parent = vec![NO_PARENT; n];
+        .map_err(|(second, _)| Error::swc(path, samples[second].line as usize, "duplicate id"))?;
+    let mut parent = vec![NO_PARENT; samples.len()];
     for (i, s) in samples.iter().enumerate() {
         if s.parent >= 0 {
             if s.parent == s.id {
                 return Err(Error::swc(
-                    &path,
+                    path,
                     s.line as usize,
                     format!("sample {} is its own parent", s.id),
                 ));
             }
             parent[i] = index.get(s.parent).ok_or_else(|| {
                 Error::swc(
-                    &path,
+                    path,
                     s.line as usize,
                     format!("parent id {} does not exist", s.parent),
                 )
             })?;
         }
     }
-    check_acyclic(&samples, &parent, &path)?;
+    Ok(parent)
+}
 
-    // Merge duplicate consecutive points. The tolerance is relative to the
-    // skeleton's extent so it works in nm and in µm alike.
+/// The samples left after step 2, in file order, with their parents among
+/// them.
+struct Kept {
+    ids: Vec<i64>,
+    kinds: Vec<i32>,
+    pos: Vec<[f64; 3]>,
+    lines: Vec<u32>,
+    radius: Vec<f64>,
+    file_parent: Vec<u32>,
+}
+
+/// Step 2: duplicate consecutive points merged into their parents (the
+/// parent keeps the larger radius and adopts the children), the survivors
+/// compacted in file order; the missing radii and the merges counted into
+/// `cleaning`.
+fn merge_duplicates(samples: &[RawSample], parent: &[u32], cleaning: &mut Cleaning) -> Kept {
+    let n = samples.len();
+    // The tolerance is relative to the skeleton's extent so it works in nm
+    // and in µm alike.
     let extent = samples
         .iter()
         .flat_map(|s| s.pos)
@@ -49,8 +115,7 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
     let eps = 1e-9 * extent;
     let mut merged_into: Vec<u32> = (0..n as u32).collect();
     let mut radius: Vec<f64> = samples.iter().map(|s| s.radius).collect();
-    let mut cleaning = Cleaning::default();
-    for s in &samples {
+    for s in samples {
         if !s.radius.is_finite() || s.radius < 0.0 {
             cleaning.negative_radii += 1;
         } else if s.radius == 0.0 {
@@ -58,8 +123,7 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         }
     }
     // Process in an order where parents come first so chains of duplicates collapse.
-    let file_order = topological_order(&parent);
-    for &i in &file_order {
+    for &i in &topological_order(parent) {
         let i = i as usize;
         let p = parent[i];
         if p == NO_PARENT {
@@ -85,42 +149,66 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
             kept.push(i);
         }
     }
-    let m = kept.len();
-    let mut file_parent = vec![NO_PARENT; m];
+    let mut file_parent = vec![NO_PARENT; kept.len()];
     for (k, &i) in kept.iter().enumerate() {
         let p = parent[i];
         if p != NO_PARENT {
             file_parent[k] = new_index[find(&mut merged_into, p) as usize];
         }
     }
-    let ids: Vec<i64> = kept.iter().map(|&i| samples[i].id).collect();
-    let kinds: Vec<i32> = kept.iter().map(|&i| samples[i].kind).collect();
-    let pos: Vec<[f64; 3]> = kept.iter().map(|&i| samples[i].pos).collect();
-    let lines: Vec<u32> = kept.iter().map(|&i| samples[i].line).collect();
-    let mut radius: Vec<f64> = kept.iter().map(|&i| radius[i]).collect();
-
-    // Undirected adjacency, for tree discovery, re-rooting and radius filling.
-    let mut degree = vec![0u32; m + 1];
-    for (k, &p) in file_parent.iter().enumerate() {
-        if p != NO_PARENT {
-            degree[k] += 1;
-            degree[p as usize] += 1;
-        }
+    Kept {
+        ids: kept.iter().map(|&i| samples[i].id).collect(),
+        kinds: kept.iter().map(|&i| samples[i].kind).collect(),
+        pos: kept.iter().map(|&i| samples[i].pos).collect(),
+        lines: kept.iter().map(|&i| samples[i].line).collect(),
+        radius: kept.iter().map(|&i| radius[i]).collect(),
+        file_parent,
     }
-    let adj_start = prefix_sum(&degree);
-    let mut fill = adj_start.clone();
-    let mut adj = vec![0u32; *adj_start.last().unwrap_or(&0) as usize];
-    for (k, &p) in file_parent.iter().enumerate() {
-        if p != NO_PARENT {
-            adj[fill[k] as usize] = p;
-            fill[k] += 1;
-            adj[fill[p as usize] as usize] = k as u32;
-            fill[p as usize] += 1;
-        }
-    }
-    let neighbours = |k: usize| &adj[adj_start[k] as usize..adj_start[k + 1] as usize];
+}
 
-    // Trees: connected components, discovered from file roots in file order.
+/// The undirected adjacency of a forest given by its parent links, for tree
+/// discovery, re-rooting and radius filling.
+struct Adjacency {
+    /// Where each sample's neighbours begin in `list` (one more entry ends
+    /// the last).
+    start: Vec<u32>,
+    list: Vec<u32>,
+}
+
+impl Adjacency {
+    fn of(parent: &[u32]) -> Adjacency {
+        let m = parent.len();
+        let mut degree = vec![0u32; m + 1];
+        for (k, &p) in parent.iter().enumerate() {
+            if p != NO_PARENT {
+                degree[k] += 1;
+                degree[p as usize] += 1;
+            }
+        }
+        let start = prefix_sum(&degree);
+        let mut fill = start.clone();
+        let mut list = vec![0u32; *start.last().unwrap_or(&0) as usize];
+        for (k, &p) in parent.iter().enumerate() {
+            if p != NO_PARENT {
+                list[fill[k] as usize] = p;
+                fill[k] += 1;
+                list[fill[p as usize] as usize] = k as u32;
+                fill[p as usize] += 1;
+            }
+        }
+        Adjacency { start, list }
+    }
+
+    /// The neighbours of sample `k`.
+    fn of_sample(&self, k: usize) -> &[u32] {
+        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+}
+
+/// The trees: connected components, discovered from file roots in file
+/// order. The tree of every sample, and each tree's samples.
+fn trees_of(file_parent: &[u32], adj: &Adjacency) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let m = file_parent.len();
     let mut tree_of = vec![NO_PARENT; m];
     let mut components: Vec<Vec<u32>> = Vec::new();
     for root in 0..m {
@@ -134,7 +222,7 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         while head < members.len() {
             let k = members[head] as usize;
             head += 1;
-            for &q in neighbours(k) {
+            for &q in adj.of_sample(k) {
                 if tree_of[q as usize] == NO_PARENT {
                     tree_of[q as usize] = t;
                     members.push(q);
@@ -143,24 +231,26 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         }
         components.push(members);
     }
+    (tree_of, components)
+}
 
-    fill_missing_radii(
-        &mut radius,
-        &pos,
-        &file_parent,
-        &components,
-        &kinds,
-        &adj_start,
-        &adj,
-        &mut cleaning,
-    );
-
-    // Soma per tree, then re-root every tree at its soma (or keep the file root).
+/// Step 4: each tree's soma, and the tree re-rooted at it (or kept at its
+/// file root): the trees, every sample's parent, and the samples in an
+/// order where parents come first.
+fn rooted_at_somas(
+    components: &[Vec<u32>],
+    kinds: &[i32],
+    pos: &[[f64; 3]],
+    radius: &[f64],
+    adj: &Adjacency,
+) -> (Vec<Tree>, Vec<u32>, Vec<u32>) {
+    let m = kinds.len();
+    let neighbours = |k: usize| adj.of_sample(k);
     let mut trees = Vec::with_capacity(components.len());
     let mut geo_parent = vec![NO_PARENT; m];
     let mut order = Vec::with_capacity(m);
-    for members in &components {
-        let soma_samples = largest_soma_group(members, &kinds, &neighbours);
+    for members in components {
+        let soma_samples = largest_soma_group(members, kinds, &neighbours);
         let root = soma_samples.first().copied().unwrap_or(members[0]);
         // BFS over undirected edges gives the re-rooted parent links.
         let start = order.len();
@@ -177,48 +267,37 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
                 }
             }
         }
-        let soma = fit_soma(&soma_samples, &pos, &radius);
+        let soma = fit_soma(&soma_samples, pos, radius);
         trees.push(Tree {
             root,
             soma,
             len: members.len() as u32,
         });
     }
+    (trees, geo_parent, order)
+}
 
+/// The children of every sample, in file order (which keeps the output
+/// deterministic and familiar), as a start per sample (one more entry ends
+/// the last) and a list.
+fn children_of(parent: &[u32], n_trees: usize) -> (Vec<u32>, Vec<u32>) {
+    let m = parent.len();
     let mut counts = vec![0u32; m + 1];
-    for &p in &geo_parent {
+    for &p in parent {
         if p != NO_PARENT {
             counts[p as usize] += 1;
         }
     }
     let child_start = prefix_sum(&counts);
     let mut fill = child_start.clone();
-    let mut child_list = vec![0u32; m - trees.len()];
-    // Children in file order, which keeps the output deterministic and familiar.
-    for (k, &p) in geo_parent.iter().enumerate() {
+    let mut child_list = vec![0u32; m - n_trees];
+    for (k, &p) in parent.iter().enumerate() {
         if p != NO_PARENT {
             child_list[fill[p as usize] as usize] = k as u32;
             fill[p as usize] += 1;
         }
     }
-
-    Ok(Morphology {
-        name: path,
-        ids,
-        kinds,
-        pos,
-        radius,
-        lines,
-        file_parent,
-        parent: geo_parent,
-        child_start,
-        child_list,
-        order,
-        tree_of,
-        trees,
-        cleaning,
-        comment_lines,
-    })
+    (child_start, child_list)
 }
 
 pub(super) fn prefix_sum(counts: &[u32]) -> Vec<u32> {
