@@ -34,7 +34,7 @@ fn main() {
             let mut starts = plan::plan(&skeleton, &p);
             let mut built = tubes::build(&skeleton, &starts, &p);
             let segments = std::mem::take(&mut built.segments);
-            let fillers = filler::select(
+            let fillers = filler::select::select(
                 &mut skeleton,
                 &mut starts,
                 segments,

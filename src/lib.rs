@@ -66,7 +66,7 @@ pub mod io;
 
 pub use error::{Error, Result, SwcError};
 pub use input::morphology::{Cleaning, Morphology, Soma, SomaKind, Tree};
-pub use measure::check::MeshReport;
+pub use measure::report::MeshReport;
 pub use measure::skeleton::SkeletonMeasures;
 pub use measure::summary::Summary;
 pub use measure::union::UnionMeasures;

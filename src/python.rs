@@ -27,7 +27,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
 use crate::input::morphology::Morphology;
-use crate::measure::check::MeshReport;
+use crate::measure::report::MeshReport;
 use crate::mesh::{BuildStats, Mesh, MeshView};
 use crate::params::*;
 use crate::{Error, io};

@@ -28,7 +28,7 @@ use crate::mesh::{BuildStats, Mesh, NO_OWNER};
 use crate::params::Params;
 use crate::skeleton::Skeleton;
 use crate::skeleton::track::{SAFE_SWEEP_CAP, SWEEP_CAP};
-use filler::FillerPlan;
+use filler::select::FillerPlan;
 use splice::{Join, Method, Splicer};
 use surface::Surface;
 use tube::{Ring, Tube};
@@ -43,23 +43,23 @@ pub struct Reach {
     /// The widening cap of the tubes ([`SWEEP_CAP`]).
     pub sweep_cap: f64,
     /// The smallest filler built, as a share of the cell's volume
-    /// ([`filler::MIN_GAIN`]).
+    /// ([`filler::gain::MIN_GAIN`]).
     pub min_gain: f64,
 }
 
 /// The first construction's reach: tubes widened up to [`SWEEP_CAP`],
-/// fillers down to [`filler::FINE_MIN_GAIN`].
+/// fillers down to [`filler::gain::FINE_MIN_GAIN`].
 pub const FIRST_REACH: Reach = Reach {
     sweep_cap: SWEEP_CAP,
-    min_gain: filler::FINE_MIN_GAIN,
+    min_gain: filler::gain::FINE_MIN_GAIN,
 };
 
 /// The second construction's reach, for cells whose first union leaves
 /// crossings: tubes widened up to [`SAFE_SWEEP_CAP`], fillers down to
-/// [`filler::MIN_GAIN`].
+/// [`filler::gain::MIN_GAIN`].
 pub const SAFE_REACH: Reach = Reach {
     sweep_cap: SAFE_SWEEP_CAP,
-    min_gain: filler::MIN_GAIN,
+    min_gain: filler::gain::MIN_GAIN,
 };
 
 /// The surface after stage 4: tubes and somas, with every open start still
@@ -103,7 +103,7 @@ pub struct Construction {
     /// The filler (index into the plan's fillers) of each filler part, from
     /// `filler_parts` on: a filler is one part per tube piece.
     pub filler_of_part: Vec<u32>,
-    /// Whether some fillers are below [`filler::MIN_GAIN`] (a construction
+    /// Whether some fillers are below [`filler::gain::MIN_GAIN`] (a construction
     /// at [`SAFE_REACH`] would leave them out).
     pub fine_fillers: bool,
     /// The largest widening of any track's contours
@@ -132,7 +132,8 @@ pub fn construct(morphology: &Morphology, params: &Params, reach: Reach) -> Resu
     let mut starts = plan::plan(&skeleton, params);
     let mut tubes = tubes::build(&skeleton, &starts, params);
     let segments = std::mem::take(&mut tubes.segments);
-    let fillers = filler::select(&mut skeleton, &mut starts, segments, params, reach.min_gain);
+    let fillers =
+        filler::select::select(&mut skeleton, &mut starts, segments, params, reach.min_gain);
     let spliced = splice_all(join_somas(tubes), params.cap_rings);
     Ok(build_fillers(spliced, &fillers, &skeleton, params))
 }

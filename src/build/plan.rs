@@ -15,7 +15,8 @@
 use glam::DVec3;
 
 use crate::build::coverage::ConeIndex;
-use crate::build::filler::Straight;
+use crate::build::filler::cone::{Straight, dome_leaves_sphere, straight_track};
+use crate::build::filler::gain::span;
 use crate::build::soma::{self, Footprint, Sphere};
 use crate::kernel::round_cone::RoundCone;
 use crate::params::Params;
@@ -120,7 +121,7 @@ pub fn plan(skeleton: &Skeleton, params: &Params) -> Starts {
             let mut around = cones;
             let p = tp.samples[tp.originals[at as usize]].pos;
             around.push(RoundCone::sphere(p, rp));
-            out.filler[i] = crate::build::filler::span(t, out.start[i], &around);
+            out.filler[i] = span(t, out.start[i], &around);
         }
     }
     out
@@ -261,9 +262,7 @@ fn set_trunk_filler(
     let axis = (p1 - p0) / length;
     let radii = [g.radius[s0], g.radius[s1]];
     // Sampled like the trunk itself.
-    let Some(mut straight) =
-        crate::build::filler::straight_track(p0, p1, radii, t.edge, with.params)
-    else {
+    let Some(mut straight) = straight_track(p0, p1, radii, t.edge, with.params) else {
         return;
     };
     // Up to its first contour half a step or more beyond the tube's start,
@@ -295,8 +294,8 @@ fn set_trunk_filler(
         straight.radii[last] *= TUCK;
     }
     let end = last + 1;
-    if let Some(span) = crate::build::filler::span(&straight, Some(end), cones) {
-        let flat_end = crate::build::filler::dome_leaves_sphere(&straight, radii[1]);
+    if let Some(span) = span(&straight, Some(end), cones) {
+        let flat_end = dome_leaves_sphere(&straight, radii[1]);
         out.filler[i] = Some(span);
         out.filler_track[i] = Some(Straight {
             track: straight,

@@ -136,7 +136,7 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh> {
         );
     }
     if models.len() > 1 {
-        (positions, faces) = super::weld(positions, faces);
+        (positions, faces) = super::weld::weld(positions, faces);
     }
     Mesh::from_positions(&positions, faces).map_err(|e| Error::mesh_file(path, 0, e.to_string()))
 }

@@ -111,7 +111,7 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh> {
     let faces = (0..vertices.len() as u32 / 3)
         .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
         .collect();
-    let (vertices, faces) = super::weld(vertices, faces);
+    let (vertices, faces) = super::weld::weld(vertices, faces);
     Mesh::from_positions(&vertices, faces).map_err(|e| Error::mesh_file(path, 0, e.to_string()))
 }
 

@@ -1,5 +1,6 @@
 //! Measures.
 pub mod check;
+pub mod report;
 pub mod crofton;
 pub mod skeleton;
 pub mod summary;

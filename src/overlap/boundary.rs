@@ -3,9 +3,9 @@
 //! clusters that fail are left uncut.
 
 use super::assembly::{assemble, renumbering};
+use super::faces::{parts_of, vertices_of};
 use super::patches::{Tried, classify, leave_uncut, patches};
 use super::settle::{self, Cut, Index};
-use super::{parts_of, vertices_of};
 use std::ops::Range;
 
 use crate::kernel::bits::Bits;

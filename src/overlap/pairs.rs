@@ -1,11 +1,13 @@
 //! Step 1: the pairs of faces of different parts that cross, found through
 //! a BVH over runs of consecutive faces of one part, and their clusters.
 
-use super::RUN;
 use crate::kernel::bvh::{Aabb, Bvh};
 use crate::kernel::hash::FastMap;
 use crate::kernel::vector::{P3, V3, at};
 use crate::mesh::NO_OWNER;
+
+/// Faces per BVH item: runs of consecutive faces of one part.
+pub(super) const RUN: usize = 16;
 
 /// Runs of up to [`RUN`] consecutive faces with one owner, and their boxes
 /// (for the BVH, which keeps them: the runs do not keep a copy).

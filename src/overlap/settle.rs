@@ -22,8 +22,8 @@
 //! thread, best of 3; the medulla neuron 2.12 s instead of 2.47), every mesh
 //! still valid and area and volume unchanged to 0.01 %.
 
+use super::faces::{nudged, vertices_of};
 use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
-use super::{nudged, vertices_of};
 use crate::kernel::bvh::{Aabb, Bvh};
 use crate::kernel::hash::FastMap;
 use crate::kernel::vector::{P3, V3, at};

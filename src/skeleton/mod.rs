@@ -8,6 +8,7 @@ pub mod contour;
 pub mod frame;
 pub mod geometry;
 pub mod spline;
+pub mod tangents;
 pub mod thinning;
 pub mod track;
 

@@ -57,7 +57,7 @@ impl Track {
         let r_avg = radii.iter().sum::<f64>() / radii.len() as f64;
         let edge = r_avg / params.resolution;
         let mut samples = spline::resample(points, radii, edge, params.k1);
-        spline::smooth_tangents(&mut samples);
+        super::tangents::smooth_tangents(&mut samples);
         spline::reach_of_spheres(&mut samples, points, radii);
         let start_u = u0
             .map(|u| u - u.dot(samples[0].tangent) * samples[0].tangent)

@@ -2,7 +2,8 @@
 //! volume, and only when together they add enough to pay for the crossings
 //! they bring to the overlap pass.
 
-use super::{MIN_GAIN, MIN_TOTAL_GAIN, Straight, segment_track};
+use super::cone::{Straight, segment_track};
+use super::gain::{MIN_GAIN, MIN_TOTAL_GAIN};
 use crate::build::coverage::slices;
 use crate::build::plan::Starts;
 use crate::params::Params;

@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 
-use super::Splicer;
 use super::region::{boundary_loop, tri_normal};
+use super::splicer::Splicer;
 use crate::build::splice::index::tri_box;
 use crate::build::surface::{Mark, Surface};
 use crate::build::tube::{self, Ring, Tube};
@@ -309,7 +309,7 @@ impl Splicer<'_> {
             let label = if i == 0 { primary_label } else { c1.label };
             loops.push(c.iter().map(|&p| self.surface.vertex(p, label)).collect());
         }
-        loops.push(tube::ring_loop(c1));
+        loops.push(tube::band::ring_loop(c1));
         let first_tri = self.surface.tris.len() as u32;
         let c_q = &region.c_q;
         let skirt_vertex = |i: usize| {
@@ -325,7 +325,7 @@ impl Splicer<'_> {
         }
         let frames = &bridge.frames;
         for (i, w) in loops.windows(2).enumerate() {
-            tube::connect_loops(
+            tube::band::connect_loops(
                 self.surface,
                 &w[0],
                 &w[1],

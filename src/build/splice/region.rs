@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::Splicer;
+use super::splicer::Splicer;
 use crate::build::splice::index::tri_box;
 use crate::build::surface::Surface;
 use crate::kernel::bvh::Aabb;
