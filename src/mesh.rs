@@ -9,16 +9,13 @@
 //! f32 holds 24 bits: at 12,000 µm from the coordinates' origin its step is
 //! 0.001 µm, 4 % of a 0.025 µm glial process, and rounding every vertex there
 //! tilts and folds the small triangles of thin neurites into their
-//! neighbours; and the radius floor that keeps contours distinct in f32
-//! ([`crate::skeleton::geometry::RELATIVE_RADIUS_FLOOR`]) grows with the coordinates.
-//! Before this, the corpus's 48 files moved 10⁴ units away meshed with
-//! 2,819 crossing face pairs, and a glial cell's area came out 244 % over
-//! the union of round cones (its 0.025 µm processes floored to 0.12). So a
-//! cell far from the origin compared with its size is meshed around a point
-//! near its centre ([`frame_origin`]) and keeps the precision it would have
-//! at the origin; writers add the origin back in f64.
+//! neighbours; the radius floor that keeps contours distinct in f32 grows
+//! with the coordinates too. So a cell far from the origin compared with its
+//! size is meshed around a point near its centre ([`frame_origin`]) and keeps
+//! the precision it would have at the origin; writers add the origin back in
+//! f64.
 //!
-//! The quality report lives in [`crate::measure::check`].
+//! The quality report is `measure::check`'s.
 
 use crate::error::{Error, Result};
 use crate::kernel::vector::{bounds, cross, dot, norm, sub};

@@ -1,97 +1,174 @@
-//! Every tunable of the mesher in one place.
+//! Every tunable of the mesher, listed once.
 //!
-//! [`Params`] is the single source of the parameter names: the CLI derives its
-//! flags from it (`--angle-threshold`, …, through `clap::Args` behind the `cli`
-//! feature) and the Python keyword arguments are the same names in snake case,
-//! checked against [`PARAM_NAMES`] by a test, so the three cannot drift.
+//! The table in [`with_params`] is the one place a parameter is declared:
+//! its name, type, default and documentation. From it come [`Params`] (with
+//! its `DEFAULT_*` constants and `with_*` builders), the CLI's flags (clap's
+//! derive reads the same doc comments behind the `cli` feature), the Python
+//! keyword arguments with their defaults and docstrings (the bindings expand
+//! the same table), and [`Params::FIELDS`], from which a test checks the
+//! Python stub and the README's parameter table. Adding a parameter is one
+//! entry here and a range check in [`Params::validate`].
 
-/// Default of [`Params::angle_threshold`] (degrees).
-pub const DEFAULT_ANGLE_THRESHOLD: f64 = 10.0;
-/// Default of [`Params::k1`].
-pub const DEFAULT_K1: u32 = 1;
-/// Default of [`Params::min_vertices`].
-pub const DEFAULT_MIN_VERTICES: u32 = 12;
-/// Default of [`Params::max_vertices`].
-pub const DEFAULT_MAX_VERTICES: u32 = 64;
-/// Default of [`Params::cap_rings`].
-pub const DEFAULT_CAP_RINGS: u32 = 3;
-/// Default of [`Params::resolution`].
-pub const DEFAULT_RESOLUTION: f64 = 1.0;
-/// Default of [`Params::min_radius`] (0 = automatic floor only).
-pub const DEFAULT_MIN_RADIUS: f64 = 0.0;
-/// Default of [`Params::scale`].
-pub const DEFAULT_SCALE: f64 = 1.0;
+/// Calls the macro `$callback` with the parameter table, after the tokens
+/// passed in brackets: per parameter its doc comment, `name: type = default`
+/// (a literal), the constant holding the default and the builder's name.
+macro_rules! with_params {
+    ($callback:ident! { $($pass:tt)* }) => {
+        $callback! {
+            [$($pass)*]
 
-/// The names of all parameters, as CLI flags (with `-` for `_`) and Python keywords.
-pub const PARAM_NAMES: [&str; 8] = [
-    "angle_threshold",
-    "k1",
-    "min_vertices",
-    "max_vertices",
-    "cap_rings",
-    "resolution",
-    "min_radius",
-    "scale",
-];
+            /// Best-successor tie threshold t, in degrees (paper §3.1).
+            ///
+            /// When the two straightest children of a branch point deviate
+            /// from the incoming direction by angles closer than this, the
+            /// child whose radius is closest to the branch point's continues
+            /// the branch.
+            angle_threshold: f64 = 10.0 => DEFAULT_ANGLE_THRESHOLD, with_angle_threshold;
 
-/// Tunables of the meshing pipeline, each with the paper formula it feeds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
-#[cfg_attr(feature = "cli", derive(clap::Args))]
-pub struct Params {
-    /// Best-successor tie threshold t, in degrees (paper §3.1).
-    ///
-    /// When the two straightest children of a branch point deviate from the
-    /// incoming direction by angles closer than this, the child whose radius is
-    /// closest to the branch point's continues the branch. Default 10.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_ANGLE_THRESHOLD, help_heading = "Mesh parameters"))]
-    pub angle_threshold: f64,
-    /// Extra spline samples per segment, k1 of formula (1).
-    ///
-    /// Between two original points the resampler inserts
-    /// floor(D / r_avg × resolution) + k1 samples; the first segment of a branch
-    /// gets k1 + 1 (the paper's endpoint rule). Default 1.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_K1, help_heading = "Mesh parameters"))]
-    pub k1: u32,
-    /// Fewest vertices on a contour (even, formula 3's floor).
-    ///
-    /// Formula (3) gives few vertices where the radius is near the branch average;
-    /// this floor keeps thin tubes round (12 keeps a tube's area and volume within 1 % of the round tube's). Default 12.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MIN_VERTICES, help_heading = "Mesh parameters"))]
-    pub min_vertices: u32,
-    /// Most vertices on a contour (even, formula 3's cap).
-    ///
-    /// Caps the count where a thick point sits on a thin branch. Default 64.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MAX_VERTICES, help_heading = "Mesh parameters"))]
-    pub max_vertices: u32,
-    /// Shrinking rings in each tip cap before its apex.
-    ///
-    /// Tips are closed by a dome inside the last sample's sphere; more rings make
-    /// it rounder. 0 closes a tip with a flat fan. Default 3.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_CAP_RINGS, help_heading = "Mesh parameters"))]
-    pub cap_rings: u32,
-    /// Global resolution factor (edge length = r_avg / resolution).
-    ///
-    /// Multiplies the sampling density along branches (formula 1) and around
-    /// contours (formula 3). 2 gives about four times the triangles. Default 1.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_RESOLUTION, help_heading = "Mesh parameters"))]
-    pub resolution: f64,
-    /// Smallest radius used, in output units (0 = automatic).
-    ///
-    /// Radii below it are raised to it. Whatever its value, radii are never
-    /// below 1e-5 × the largest coordinate (measured from the point a cell
-    /// far from the origin is built around), so f32 output keeps contours
-    /// distinct.
-    /// Default 0.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_MIN_RADIUS, help_heading = "Mesh parameters"))]
-    pub min_radius: f64,
-    /// Factor applied to coordinates and radii (unit conversion).
-    ///
-    /// For example 0.001 turns nanometres into micrometres, 0.008 turns 8 nm
-    /// voxels into micrometres. Default 1.
-    #[cfg_attr(feature = "cli", arg(long, default_value_t = DEFAULT_SCALE, help_heading = "Mesh parameters"))]
-    pub scale: f64,
+            /// Extra spline samples per segment, k1 of formula (1).
+            ///
+            /// Between two original points the resampler inserts
+            /// floor(D / r_avg × resolution) + k1 samples; the first segment
+            /// of a branch gets k1 + 1 (the paper's endpoint rule).
+            k1: u32 = 1 => DEFAULT_K1, with_k1;
+
+            /// Fewest vertices on a contour (even, formula 3's floor).
+            ///
+            /// Formula (3) gives few vertices where the radius is near the
+            /// branch average; this floor keeps thin tubes round (12 keeps a
+            /// tube's area and volume within 1 % of the round tube's).
+            min_vertices: u32 = 12 => DEFAULT_MIN_VERTICES, with_min_vertices;
+
+            /// Most vertices on a contour (even, formula 3's cap).
+            ///
+            /// Caps the count where a thick point sits on a thin branch.
+            max_vertices: u32 = 64 => DEFAULT_MAX_VERTICES, with_max_vertices;
+
+            /// Shrinking rings in each tip cap before its apex.
+            ///
+            /// Tips are closed by a dome inside the last sample's sphere;
+            /// more rings make it rounder. 0 closes a tip with a flat fan.
+            cap_rings: u32 = 3 => DEFAULT_CAP_RINGS, with_cap_rings;
+
+            /// Global resolution factor (edge length = r_avg / resolution).
+            ///
+            /// Multiplies the sampling density along branches (formula 1)
+            /// and around contours (formula 3). 2 gives about four times the
+            /// triangles.
+            resolution: f64 = 1.0 => DEFAULT_RESOLUTION, with_resolution;
+
+            /// Smallest radius used, in output units (0 = automatic).
+            ///
+            /// Radii below it are raised to it. Whatever its value, radii
+            /// are never below 1e-5 × the largest coordinate (measured from
+            /// the point a cell far from the origin is built around), so the
+            /// f32 output keeps contours distinct.
+            min_radius: f64 = 0.0 => DEFAULT_MIN_RADIUS, with_min_radius;
+
+            /// Factor applied to coordinates and radii (unit conversion).
+            ///
+            /// For example 0.001 turns nanometres into micrometres, 0.008
+            /// turns 8 nm voxels into micrometres.
+            scale: f64 = 1.0 => DEFAULT_SCALE, with_scale;
+        }
+    };
 }
+#[cfg(feature = "python")]
+pub(crate) use with_params;
+
+/// One parameter as the table declares it, for generated documentation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Field {
+    /// Its name: the field, the Python keyword, and with `-` for `_` the
+    /// CLI flag.
+    pub name: &'static str,
+    /// Its Rust type (`f64` or `u32`).
+    pub rust_type: &'static str,
+    /// Its default, as written in the table.
+    pub default: &'static str,
+    /// Its doc comment: a first line that says what it is, then why.
+    pub doc: &'static str,
+}
+
+impl Field {
+    /// Its Python type.
+    pub fn python_type(&self) -> &'static str {
+        match self.rust_type {
+            "f64" => "float",
+            _ => "int",
+        }
+    }
+
+    /// The first line of its doc: what it is.
+    pub fn summary(&self) -> &'static str {
+        self.doc.lines().next().unwrap_or("").trim()
+    }
+
+    /// The rest of its doc, joined into one paragraph: why.
+    pub fn details(&self) -> String {
+        let rest: Vec<&str> = self
+            .doc
+            .lines()
+            .skip(1)
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect();
+        rest.join(" ")
+    }
+}
+
+macro_rules! define_params {
+    ([] $( $(#[doc = $doc:literal])* $name:ident : $ty:ident = $default:tt => $const:ident, $with:ident; )*) => {
+        $(
+            #[doc = concat!("Default of [`Params::", stringify!($name), "`].")]
+            pub const $const: $ty = $default;
+        )*
+
+        /// The names of all parameters, as CLI flags (with `-` for `_`) and
+        /// Python keywords, in table order.
+        pub const PARAM_NAMES: &[&str] = &[$(stringify!($name)),*];
+
+        /// Tunables of the meshing pipeline, each with the paper formula it
+        /// feeds.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        #[non_exhaustive]
+        #[cfg_attr(feature = "cli", derive(clap::Args))]
+        pub struct Params {
+            $(
+                $(#[doc = $doc])*
+                #[doc = ""]
+                #[doc = concat!("Default ", stringify!($default), ".")]
+                #[cfg_attr(feature = "cli", arg(long, default_value_t = $const, help_heading = "Mesh parameters"))]
+                pub $name: $ty,
+            )*
+        }
+
+        impl Params {
+            /// All defaults.
+            pub const DEFAULT: Params = Params { $($name: $const),* };
+
+            /// Every parameter as the table declares it, in table order.
+            pub const FIELDS: &[Field] = &[$(
+                Field {
+                    name: stringify!($name),
+                    rust_type: stringify!($ty),
+                    default: stringify!($default),
+                    doc: concat!($($doc, "\n"),*),
+                }
+            ),*];
+
+            $(
+                #[doc = concat!("Sets [`Params::", stringify!($name), "`].")]
+                pub const fn $with(mut self, value: $ty) -> Self {
+                    self.$name = value;
+                    self
+                }
+            )*
+        }
+    };
+}
+
+with_params!(define_params! {});
 
 impl Default for Params {
     fn default() -> Self {
@@ -100,59 +177,6 @@ impl Default for Params {
 }
 
 impl Params {
-    /// All defaults.
-    pub const DEFAULT: Params = Params {
-        angle_threshold: DEFAULT_ANGLE_THRESHOLD,
-        k1: DEFAULT_K1,
-        min_vertices: DEFAULT_MIN_VERTICES,
-        max_vertices: DEFAULT_MAX_VERTICES,
-        cap_rings: DEFAULT_CAP_RINGS,
-        resolution: DEFAULT_RESOLUTION,
-        min_radius: DEFAULT_MIN_RADIUS,
-        scale: DEFAULT_SCALE,
-    };
-
-    /// Sets [`Params::angle_threshold`].
-    pub const fn with_angle_threshold(mut self, degrees: f64) -> Self {
-        self.angle_threshold = degrees;
-        self
-    }
-    /// Sets [`Params::k1`].
-    pub const fn with_k1(mut self, k1: u32) -> Self {
-        self.k1 = k1;
-        self
-    }
-    /// Sets [`Params::min_vertices`].
-    pub const fn with_min_vertices(mut self, n: u32) -> Self {
-        self.min_vertices = n;
-        self
-    }
-    /// Sets [`Params::max_vertices`].
-    pub const fn with_max_vertices(mut self, n: u32) -> Self {
-        self.max_vertices = n;
-        self
-    }
-    /// Sets [`Params::cap_rings`].
-    pub const fn with_cap_rings(mut self, n: u32) -> Self {
-        self.cap_rings = n;
-        self
-    }
-    /// Sets [`Params::resolution`].
-    pub const fn with_resolution(mut self, factor: f64) -> Self {
-        self.resolution = factor;
-        self
-    }
-    /// Sets [`Params::min_radius`].
-    pub const fn with_min_radius(mut self, r: f64) -> Self {
-        self.min_radius = r;
-        self
-    }
-    /// Sets [`Params::scale`].
-    pub const fn with_scale(mut self, factor: f64) -> Self {
-        self.scale = factor;
-        self
-    }
-
     /// Checks every value against its valid range.
     ///
     /// # Errors
@@ -216,6 +240,24 @@ impl Params {
         }
         Ok(())
     }
+
+    /// The keyword arguments of the Python stub, one per line with `indent`:
+    /// `name: type = default,`.
+    pub fn python_stub_arguments(indent: &str) -> String {
+        Self::FIELDS
+            .iter()
+            .map(|f| format!("{indent}{}: {} = {},\n", f.name, f.python_type(), f.default))
+            .collect()
+    }
+
+    /// The README's table of parameters (Markdown).
+    pub fn markdown_table() -> String {
+        let mut out = String::from("| name | default | meaning |\n| --- | --- | --- |\n");
+        for f in Self::FIELDS {
+            out += &format!("| `{}` | {} | {} |\n", f.name, f.default, f.summary());
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -253,5 +295,91 @@ mod tests {
                 other => panic!("{name}: {other:?}"),
             }
         }
+    }
+
+    #[test]
+    fn the_table_gives_every_field_its_default_and_doc() {
+        assert_eq!(Params::FIELDS.len(), PARAM_NAMES.len());
+        let f = Params::FIELDS[0];
+        assert_eq!(
+            (f.name, f.rust_type, f.default),
+            ("angle_threshold", "f64", "10.0")
+        );
+        assert!(f.summary().starts_with("Best-successor tie threshold"));
+        assert!(f.details().starts_with("When the two straightest"));
+        for f in Params::FIELDS {
+            assert!(
+                !f.summary().is_empty() && !f.details().is_empty(),
+                "{}",
+                f.name
+            );
+        }
+        assert_eq!(DEFAULT_K1, 1);
+        assert_eq!(Params::DEFAULT.with_k1(2).k1, 2);
+    }
+
+    /// The Python stub and the README list the parameters as the table does:
+    /// `NEUROMESH_BLESS=1 cargo test` rewrites both from it.
+    #[test]
+    fn the_stub_and_the_readme_follow_the_table() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let bless = std::env::var_os("NEUROMESH_BLESS").is_some();
+        let stub = root.join("python/neuromesh_rs/_native.pyi");
+        let readme = root.join("README.md");
+        let arguments = |indent: &str| Params::python_stub_arguments(indent);
+        let table = |_: &str| Params::markdown_table();
+        type Generated<'a> = &'a dyn Fn(&str) -> String;
+        let files: [(&std::path::Path, Generated, &str, &str); 2] = [
+            (&stub, &arguments, "# params:begin", "# params:end"),
+            (
+                &readme,
+                &table,
+                "<!-- params:begin -->",
+                "<!-- params:end -->",
+            ),
+        ];
+        for (path, generated, begin, end) in files {
+            let text = std::fs::read_to_string(path).expect("readable");
+            let blocks = replace_blocks(&text, begin, end, generated);
+            assert!(blocks.1 > 0, "{} has no {begin:?} block", path.display());
+            if bless {
+                std::fs::write(path, &blocks.0).expect("writable");
+            } else {
+                assert!(
+                    blocks.0 == text,
+                    "{} does not list the parameters as params.rs does; \
+                     run NEUROMESH_BLESS=1 cargo test --lib params",
+                    path.display()
+                );
+            }
+        }
+    }
+
+    /// `text` with the lines between every `begin` and `end` marker line
+    /// (compared trimmed) replaced by `with` of the marker's indentation,
+    /// and how many blocks there were.
+    fn replace_blocks(
+        text: &str,
+        begin: &str,
+        end: &str,
+        with: &dyn Fn(&str) -> String,
+    ) -> (String, usize) {
+        let (mut out, mut inside, mut n) = (String::new(), false, 0);
+        for line in text.split_inclusive('\n') {
+            if inside {
+                if line.trim() == end {
+                    inside = false;
+                    out += line;
+                }
+                continue;
+            }
+            out += line;
+            if line.trim() == begin {
+                inside = true;
+                n += 1;
+                out += &with(&line[..line.len() - line.trim_start().len()]);
+            }
+        }
+        (out, n)
     }
 }

@@ -5,10 +5,6 @@ mod common;
 
 use std::f64::consts::PI;
 
-use neuromesh::internals::build::tubes::{self, Tubes};
-use neuromesh::internals::build::{FIRST_REACH, plan};
-use neuromesh::internals::measure::check::self_intersections;
-use neuromesh::internals::skeleton;
 use neuromesh::{Mesh, Morphology, Params};
 use proptest::prelude::*;
 
@@ -34,64 +30,12 @@ fn assert_closed(mesh: &Mesh, what: &str) {
     assert_eq!(r.duplicate_faces, 0, "{what}\n{r}");
 }
 
-/// Stages 1 to 3 of `m` at the default parameters: its tubes.
-fn build_tubes(m: &Morphology) -> Tubes {
-    let params = Params::default();
-    let skeleton = skeleton::prepare(m, &params, FIRST_REACH.sweep_cap).expect("skeleton");
-    let starts = plan::plan(&skeleton, &params);
-    tubes::build(&skeleton, &starts, &params)
-}
-
 /// Closed as above and free of any self-intersection.
 fn assert_sound(mesh: &Mesh, what: &str) {
     assert_closed(mesh, what);
     let r = mesh.check();
     assert_eq!(r.self_intersections, 0, "{what}\n{r}");
     assert_eq!(r.components, 1, "{what}\n{r}");
-}
-
-/// The tube stage alone (before splicing): no piece of any branch crosses
-/// itself. Returns the number of pieces.
-fn assert_pieces_sound(m: &Morphology, what: &str) -> usize {
-    let stage = build_tubes(m);
-    let s = &stage.surface;
-    // Each piece as a mesh of its own vertices only: a copy of the whole
-    // cell's vertices per piece made this test quadratic in the cell's size.
-    let mut local = vec![u32::MAX; s.pos.len()];
-    for (i, t) in stage.tubes.iter().enumerate() {
-        let mut used: Vec<u32> = Vec::new();
-        let mut faces: Vec<[u32; 3]> = Vec::new();
-        for f in t.tris.start..t.tris.end {
-            if !s.alive[f as usize] {
-                continue;
-            }
-            faces.push(s.tris[f as usize].map(|k| {
-                if local[k as usize] == u32::MAX {
-                    local[k as usize] = used.len() as u32;
-                    used.push(k);
-                }
-                local[k as usize]
-            }));
-        }
-        assert!(!faces.is_empty(), "{what}: piece {i} has no triangles");
-        let vertices: Vec<[f32; 3]> = used
-            .iter()
-            .map(|&k| s.pos[k as usize].as_vec3().to_array())
-            .collect();
-        for &k in &used {
-            local[k as usize] = u32::MAX;
-        }
-        let piece = Mesh::new(vertices, faces).expect("valid piece");
-        let pairs = self_intersections(&piece.view());
-        assert!(
-            pairs.is_empty(),
-            "{what}: piece {i} of branch {} crosses itself in {} pairs, e.g. {:?}",
-            t.branch,
-            pairs.len(),
-            &pairs[..pairs.len().min(5)]
-        );
-    }
-    stage.tubes.len()
 }
 
 fn rel(got: f64, want: f64) -> f64 {
@@ -195,18 +139,6 @@ fn vertex_labels_are_samples_of_the_branch() {
     }
 }
 
-#[test]
-fn every_branch_of_every_real_file_is_a_sound_tube() {
-    for f in common::real_files() {
-        let m = Morphology::from_swc(&f).expect("reads");
-        let mesh = mesh(&m);
-        let what = f.display().to_string();
-        assert!(!mesh.faces.is_empty(), "{what}");
-        assert_closed(&mesh, &what);
-        assert_pieces_sound(&m, &what);
-    }
-}
-
 /// A random unbranched path: steps of random length and direction (hairpins
 /// included), radii spanning three orders of magnitude, and near-duplicates.
 fn random_path() -> impl Strategy<Value = (Vec<[f64; 3]>, Vec<f64>)> {
@@ -264,7 +196,7 @@ proptest! {
         let mesh = mesh(&m);
         prop_assert!(!mesh.faces.is_empty());
         let what = format!("{pts:?} {radii:?}");
-        assert_pieces_sound(&m, &what);
+        common::assert_pieces_sound(&m, &what);
         // Where the path folds back through itself the spliced surface may
         // cross its own earlier part: that is the union's business (issue 4's
         // tests), not the tube's.
@@ -345,7 +277,7 @@ fn a_built_stage_keeps_the_first_rings_of_each_piece() {
         })
         .collect();
     let m = path(&points, &vec![0.5; points.len()]);
-    let stage = build_tubes(&m);
+    let stage = common::build_tubes(&m);
     let kept = neuromesh::internals::build::tube::KEPT_RINGS;
     let tris = &stage.surface.tris;
     // The bands are all kept: one per contour the piece was built with.

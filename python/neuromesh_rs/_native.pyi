@@ -101,6 +101,7 @@ class Morphology:
     def mesh(
         self,
         *,
+        # params:begin
         angle_threshold: float = 10.0,
         k1: int = 1,
         min_vertices: int = 12,
@@ -109,6 +110,7 @@ class Morphology:
         resolution: float = 1.0,
         min_radius: float = 0.0,
         scale: float = 1.0,
+        # params:end
     ) -> Mesh:
         """Meshes the morphology into a ``neuromesh_rs.Mesh``."""
     def __len__(self) -> int: ...
@@ -116,6 +118,7 @@ class Morphology:
 def mesh_swc(
     path: str | os.PathLike[str],
     *,
+    # params:begin
     angle_threshold: float = 10.0,
     k1: int = 1,
     min_vertices: int = 12,
@@ -124,6 +127,7 @@ def mesh_swc(
     resolution: float = 1.0,
     min_radius: float = 0.0,
     scale: float = 1.0,
+    # params:end
 ) -> Mesh:
     """Reads an SWC file and meshes it into a ``neuromesh_rs.Mesh``."""
 
@@ -132,6 +136,7 @@ def mesh_many(
     *,
     threads: int | None = None,
     return_exceptions: bool = False,
+    # params:begin
     angle_threshold: float = 10.0,
     k1: int = 1,
     min_vertices: int = 12,
@@ -140,6 +145,7 @@ def mesh_many(
     resolution: float = 1.0,
     min_radius: float = 0.0,
     scale: float = 1.0,
+    # params:end
 ) -> list[Mesh | Exception]:
     """Meshes many SWC files in parallel, detached from the interpreter; the
     results come back in input order, a failed file as its exception."""

@@ -1,13 +1,12 @@
 //! Cells whose union of round cones is one star-shaped blob, meshed as a
 //! radial surface around the centre of their largest sphere.
 //!
-//! Some platforms write codes into the SWC radius column: the CAR platform's
-//! files hold radii of 40 to 6,910 on cells 200 units across
-//! ([`crate::input::plausibility`]). Their union of round cones is then a blob a few
-//! times wider than the cell, and the paper's tubes cannot follow it: each
-//! contour is swallowed by its neighbours, and the tubes that remain end in
-//! flat caps where the union has half of a sphere (both CAR files of the
-//! corpus meshed at half of its volume).
+//! Some platforms write codes into the SWC radius column (radii of
+//! thousands on a cell a few hundred units across,
+//! [`crate::input::plausibility`]). Their union of round cones is then a blob
+//! a few times wider than the cell, and the paper's tubes cannot follow it:
+//! each contour is swallowed by its neighbours, and the tubes that remain end
+//! in flat caps where the union has half of a sphere.
 //!
 //! Such a union is star-shaped. Let the largest sphere of the skeleton have
 //! centre `c` and radius `R`. A round cone with both end spheres inside it
@@ -24,32 +23,26 @@
 //! fast between neighbouring directions) the cell goes the usual way.
 //!
 //! Each direction looks only at the cones that could reach past the best
-//! exit found so far (bounds per run of cones and per cone): the corpus's
-//! 66,578-sample CAR cell, 20,366 of whose round cones reach out of its
-//! largest sphere, meshes in 0.15 s on one core (2.0 s testing every cone).
+//! exit found so far (bounds per run of cones and per cone), a tenth of the
+//! work of testing every cone on a blob of tens of thousands of them.
 //!
 //! Ordinary cells never pass the test: a tip far from the soma has neither
 //! end inside the largest sphere nor containing its centre. A cell whose
 //! largest sphere is its soma goes the usual way too, so somas keep the
 //! paper's construction (section 3.3).
 //!
-//! **Nearly star-shaped.** A blob where some cones miss the centre (moved
-//! off it: the CAR cells with each sample jittered by 0.6 of its radius
-//! leave 23 % and 38 % of the cones reaching out of the largest sphere off
-//! it) is still meshed as `c + ρ(u)·u`, the same farthest exit over every
-//! cone, when at most [`MAX_STRAY_SHARE`] of those cones miss the centre
-//! and none of those reaches farther than [`MAX_SPAN`] largest radii from
-//! it.
-//! That surface is the union's star hull around `c`: closed, not crossing
-//! itself (the faces are checked as above), holding the union and filling
-//! the hollows it leaves between rays (on two jittered copies of the
-//! 66,578-sample cell, seeded differently: volume +10.5 % and +2.9 %, area
-//! −22.5 % and +28.8 % against [`crate::measure::union`]'s measure, itself unsure on
-//! such nearly concentric spheres). The usual way cannot mesh such a cell: its
-//! tubes, swallowed by spheres a hundred segments wide, cross each other
-//! more than a million times, and the overlap pass ran for minutes without
-//! an end. Of an ordinary cell's cones nearly all miss the centre (97.6 %
-//! or more on every file of the corpus), so it still goes the usual way.
+//! **Nearly star-shaped.** A blob where some cones miss the centre (the
+//! samples jittered off it) is still meshed as `c + ρ(u)·u`, the same
+//! farthest exit over every cone, when at most [`MAX_STRAY_SHARE`] of those
+//! cones miss the centre and none of those reaches farther than
+//! [`MAX_SPAN`] largest radii from it. That surface is the union's star
+//! hull around `c`: closed, not crossing itself (the faces are checked as
+//! above), holding the union and filling the hollows it leaves between rays,
+//! a departure from the union of round cones of up to a few tens of per cent
+//! in area. The usual way cannot mesh such a cell at all: its tubes,
+//! swallowed by spheres a hundred segments wide, cross each other millions
+//! of times. Of an ordinary cell's cones nearly all miss the centre, so it
+//! still goes the usual way.
 
 use glam::DVec3;
 
@@ -74,9 +67,9 @@ pub const MAX_STRAY_SHARE: f64 = 0.5;
 
 /// A nearly star-shaped union is meshed as its hull only when every cone
 /// missing the centre lies within this many largest radii of it: at that
-/// distance the 160-gon's edge is an eighth of the radius. The jittered CAR
-/// cells reach 2.77 and 2.73; a capsule of radius 1 and length 20 seen from
-/// one end reaches 21 (meshed radially, it lost 9 % of its volume).
+/// distance the 160-gon's edge is an eighth of the radius, and farther out
+/// (an elongated cell seen from one end) the radial surface loses the
+/// shape.
 pub const MAX_SPAN: f64 = 3.0;
 
 /// Golden-section steps refining where along a cone a ray leaves it last.

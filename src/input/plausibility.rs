@@ -1,7 +1,8 @@
 //! A warning for radii that cannot be in the coordinates' units.
 //!
 //! Some tracing platforms write codes or voxel-scaled values into the SWC radius
-//! column (the CAR platform's files hold 40 to 6,910 on a cell 150 units wide).
+//! column (the CAR platform's files hold radii of thousands on a cell a few
+//! hundred units wide).
 //! The mesher follows the radii as given, so such a file meshes into a blob, or
 //! into a few tubes when most contours are swallowed by their neighbours. This
 //! changes the mesh only in leaving out the fillers ([`crate::build::filler`]),

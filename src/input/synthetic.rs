@@ -14,12 +14,11 @@
 //! The arbor's density stays bounded as it grows, as a real cell's does: forks
 //! stop while [`MAX_TIPS`] tips are alive, and the pull to each tip's heading
 //! carries it into new space instead of back through the arbor (a pull away
-//! from the soma instead made siblings converge and cross). An earlier version
-//! forked without bound, so the number of tips grew exponentially while the
-//! arbor's extent grew only linearly; at a million samples some 16 thousand
-//! tips crowded a ball of a few hundred micrometres and the crossings between
-//! branches grew faster than the samples, which made the benchmark measure the
-//! fixture's crowding rather than the mesher's scaling.
+//! from the soma would make siblings converge and cross). Forking without
+//! bound would grow the tips exponentially and the arbor's extent only
+//! linearly, so the crossings between branches would grow faster than the
+//! samples and the scaling benchmark would measure the fixture's crowding
+//! rather than the mesher.
 
 use std::fmt::Write as _;
 
@@ -160,9 +159,8 @@ mod tests {
         let (large, most) = grow(200_000, 1);
         assert!(most <= MAX_TIPS, "{most} tips alive at once");
         // Samples within 200 micrometres of the soma: the arbor moves on
-        // into new space rather than filling the old. With unbounded forks
-        // nearly all of them were there (48,618 of 50 k, 193,005 of 200 k);
-        // now 10,819 and 22,014.
+        // into new space rather than filling the old (with unbounded forks
+        // nearly all of them would lie there).
         let near = |text: &str| {
             text.lines()
                 .filter(|l| !l.starts_with('#'))

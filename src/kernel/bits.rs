@@ -1,6 +1,6 @@
-//! A set of numbers below a bound, one bit each: which of a million-sample
-//! tree's 72 million faces are kept or in a cluster, or which vertices a
-//! nudge moves, in 9 MB rather than a byte or a number each.
+//! A set of numbers below a bound, one bit each: which of a mesh's faces
+//! are kept or in a cluster, or which vertices a nudge moves, in an eighth
+//! of a byte each.
 
 /// Numbers below the bound the set was made with, a bit each.
 #[derive(Debug, Clone, Default)]
@@ -8,8 +8,7 @@ pub(crate) struct Bits(Vec<u64>);
 
 impl Bits {
     /// The numbers `i` with `flags[i]`, 64 flags a word without a branch
-    /// each: setting the proof's kept faces bit by bit was about 1.1 s of
-    /// the million-sample tree's 37 (by the profile).
+    /// each, several times faster than setting them bit by bit.
     pub(crate) fn of_flags(flags: &[bool]) -> Bits {
         Bits(
             flags

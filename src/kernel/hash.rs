@@ -2,7 +2,8 @@
 //!
 //! The standard library's SipHash resists hash flooding, which matters for
 //! maps keyed by untrusted input; our keys are cell coordinates and vertex
-//! indices we compute ourselves, and SipHash was a fifth of the meshing time.
+//! indices we compute ourselves, and SipHash would cost a fifth of the
+//! meshing time.
 //! This is the multiply-rotate hash rustc uses internally (FxHash).
 
 use std::collections::{HashMap, HashSet};

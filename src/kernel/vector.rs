@@ -12,8 +12,8 @@ use glam::DVec3;
 pub type P3 = [f64; 3];
 
 /// A vertex as the output holds it. The overlap pass keeps its vertices so,
-/// the new ones rounded at once ([`crate::overlap::cut`]), and reads them in f64
-/// through [`at`]: an f64 copy was 0.85 GB of a million-sample tree's peak.
+/// the new ones rounded at once, and reads them in f64 through [`at`]
+/// rather than holding an f64 copy of them all.
 pub type V3 = [f32; 3];
 
 /// Vertex `k` of `pos`, in f64 (exactly).

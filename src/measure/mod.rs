@@ -1,7 +1,7 @@
 //! Measures.
 pub mod check;
-pub mod report;
 pub mod crofton;
+pub mod report;
 pub mod skeleton;
 pub mod summary;
 pub mod union;

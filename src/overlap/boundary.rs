@@ -426,9 +426,9 @@ impl Left {
 }
 
 /// The cluster of each old face in one: a bit per face says whether it is,
-/// and the faces in clusters, sorted, beside their clusters say which. A
-/// number per face was 260 MB at the million-sample tree's peak, for the
-/// few per cent of faces that cross.
+/// and the faces in clusters, sorted, beside their clusters say which: a
+/// number per face would hold the pass's peak memory for the few per cent
+/// of faces that cross.
 struct FaceClusters {
     bits: Bits,
     /// The faces in clusters, sorted, once each.

@@ -50,9 +50,8 @@ impl Refusal {
 
 /// The refusals met while cutting one cluster, gathered rather than
 /// stopping at the first: the nudge before the next round then moves every
-/// place at fault at once. Stopping at the first, a cluster of 89,000
-/// crossing pairs (a fly medulla neuron's crowded fillers) showed a new
-/// place each round and was still uncut after the last.
+/// place at fault at once. Stopping at the first, a large cluster shows a
+/// new place each round and can still be uncut after the last.
 #[derive(Debug, Default)]
 pub(super) struct Refused(Option<Refusal>);
 

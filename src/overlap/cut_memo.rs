@@ -4,10 +4,9 @@
 //!
 //! When a cut is refused, the overlap pass nudges the few vertices at fault
 //! and cuts the whole cluster again ([`crate::overlap`]). A cluster can hold
-//! tens of thousands of crossing pairs (a fly medulla neuron's crowded
-//! fillers: 55,465 in one), and re-triangulating all its faces for a nudge
-//! of 29 vertices was most of the re-cut's time. With the pieces remembered,
-//! the two nudge phases there take 517 and 174 ms instead of 731 and 413.
+//! tens of thousands of crossing pairs (crowded fillers), and
+//! re-triangulating all its faces for a nudge of a few dozen vertices would
+//! be most of the re-cut's time.
 //!
 //! A face's pieces are a function of its inputs alone: the exact coordinates
 //! of its corners, those of the new vertices around and inside it (in the

@@ -40,10 +40,8 @@ pub(super) fn nudge(mesh: &mut Mesh, vertices: &[u32], round: u64) {
 /// (see `resolve_once`), so it nudges through this and moves them itself.
 pub(super) fn nudged(faces: &[[u32; 3]], pos: &[V3], vertices: &[u32], round: u64) -> Vec<V3> {
     // Only the edges at a nudged vertex are measured: a few hundred of a
-    // million (the lengths of them all took 5 % of a small cell's meshing).
-    // The nudged vertices are marked in a bit set and their shortest edges
-    // kept in a map: an f64 per vertex was 264 MB of fresh pages per nudge
-    // on the million-sample tree.
+    // million. The nudged vertices are marked in a bit set and their
+    // shortest edges kept in a map, not in an array of the mesh's size.
     let marked = crate::kernel::bits::Bits::of(pos.len(), vertices.iter().copied());
     let is_marked = |k: u32| marked.has(k);
     let mut shortest: crate::kernel::hash::FastMap<u32, f64> =

@@ -17,8 +17,8 @@
 //!    one cut segment in both faces ([`crate::overlap::cut`]). Each cut face is
 //!    re-triangulated in its own plane by the constrained Delaunay
 //!    triangulation of its split edges and cut segments: split along the
-//!    cuts and ear-clipped where they run straight across it (96 % of cut
-//!    faces on the corpus), with spade otherwise.
+//!    cuts and ear-clipped where they run straight across it (nearly every
+//!    cut face), with spade otherwise ([`crate::overlap::retriangulate`]).
 //! 3. **Patches.** Faces connected without crossing a cut form patches. A patch
 //!    is kept when a point of it lies outside every *other* part: the winding
 //!    number of the rest of the surface there is 0 (counted along one ray
@@ -97,8 +97,8 @@ pub struct Resolved {
 /// `owner[f]` is the part of face `f` ([`NO_OWNER`] for faces to compare with
 /// everything; owners of the wrong length count as all [`NO_OWNER`]). Where
 /// a crossing cannot be cut, its faces are left as they were (see the module
-/// docs). The owners are taken rather than copied: on a million-sample tree
-/// each copy is another 260 MB at the pass's peak.
+/// docs). The owners are taken rather than copied: a copy would add to the
+/// pass's peak memory.
 pub fn resolve(mesh: &mut Mesh, owner: Vec<u32>) -> Resolved {
     let mut owner = owner;
     if owner.len() != mesh.faces.len() {
@@ -160,9 +160,9 @@ fn resolve_once(
 ) -> Round {
     // Through the round the vertices are `pos`, taken from the mesh (where
     // the union's assembly or a round without crossings puts them back),
-    // read in f64 where they are used. New vertices go after them: on the
-    // corpus a median 1 % (a tenth at the 90th percentile), and growing the
-    // array copied it; later rounds append few.
+    // read in f64 where they are used. New vertices go after them, a few
+    // per cent at most, reserved at once so that growing never copies the
+    // array; later rounds append few.
     let mut pos: Vec<V3> = std::mem::take(&mut mesh.vertices);
     pos.reserve_exact(pos.len() / 8);
     let mut index = Index::new(&pos, &mesh.faces, owner);

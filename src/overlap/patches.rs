@@ -24,8 +24,8 @@ pub(super) fn patches(
     let n_old = n_old_vertices as u32;
     // The set standing for each face is found again in each of the two
     // passes (its first old corner, or the next number after the old
-    // vertices) rather than kept in an array: on the million-sample tree
-    // that array was 263 MB of fresh pages per round.
+    // vertices) rather than kept in an array of the mesh's size, which on
+    // a large cell costs more in fresh pages than the finds.
     let node_of = |face: &[u32; 3], extra: &mut u32| {
         face.iter()
             .copied()
@@ -121,8 +121,8 @@ pub(super) fn classify(
     bvh: &Bvh,
 ) -> Vec<bool> {
     // The largest face of each patch: its centroid is far from the cuts.
-    // (Measured per live face in one pass: a separate parallel pass over the
-    // areas was slower, on one thread and on two, for the array it fills.)
+    // Measured per live face in one serial pass: a parallel pass would need
+    // an array of every face's area, which costs more than it saves.
     let mut best: Vec<(f64, u32)> = vec![(-1.0, u32::MAX); n_patches];
     for (f, face) in faces.iter().enumerate() {
         if !alive[f] {
@@ -170,8 +170,7 @@ pub(super) fn classify(
         for (k, d) in rays.into_iter().enumerate() {
             let (w, near) = winding(c, d, skip, old_faces, old_pos, runs, bvh);
             // A first ray that passes clear of every face's border counts
-            // exactly: it decides alone (on the 48 corpus files every first
-            // ray did, which halved the rays cast).
+            // exactly: it decides alone, which is nearly always.
             if k == 0 && !near {
                 return w == 0;
             }

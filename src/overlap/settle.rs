@@ -3,24 +3,18 @@
 //!
 //! A cut is refused where f32 coordinates make a contact degenerate (a
 //! piercing exactly on an edge, a pair with one piercing, one rounding onto a
-//! vertex). The round's patches, proof and assembly used to run with that
-//! cluster left uncut, and the patches holding its faces were kept whole: the
-//! clusters sharing those patches then failed the proof too (532 of the 774
-//! clusters left uncut on the 48 corpus files), and a whole round more, over
-//! the whole mesh, cut them all again after the nudge (5.4 of the pass's
-//! 16.6 s on those files, one thread; 0.8 s once the refused clusters are
-//! nudged here). Nudging the refused clusters here, before anything else of
-//! the round is built, and cutting again only the clusters that changed,
-//! costs a search around the nudged vertices and a refit of the BVH instead.
+//! vertex). Left uncut for the rest of the round, such a cluster keeps the
+//! patches holding its faces whole, the clusters sharing those patches fail
+//! the proof too, and a whole round more over the whole mesh is needed to
+//! cut them all again. Nudging the refused clusters here, before anything
+//! else of the round is built, and cutting again only the clusters that
+//! changed, costs a search around the nudged vertices and a refit of the BVH
+//! instead.
 //!
 //! Only the vertices of the faces at fault move (the cut gathers every place
-//! of a cluster it refuses, not just the first). Moving every vertex of a
-//! refused cluster, as the first phase once did, moved 32,942 vertices of a
-//! fly medulla neuron's crowded fillers for two faults (29 with only the
-//! faces at fault), and the pairs found again around them cost more than
-//! the nudge saved: the 48 corpus files took 27.5 s instead of 28.8 (one
-//! thread, best of 3; the medulla neuron 2.12 s instead of 2.47), every mesh
-//! still valid and area and volume unchanged to 0.01 %.
+//! of a cluster it refuses, not just the first): moving every vertex of a
+//! refused cluster finds new pairs around them that cost more than the
+//! nudge saves.
 
 use super::faces::{nudged, vertices_of};
 use super::pairs::{clusters_of, crossing_pairs_at, run_boxes};
@@ -78,8 +72,7 @@ impl Index {
     /// lies in such a run. A box may come out larger than its run's faces
     /// by a nudge's length, which every use of it allows (each only skips
     /// the faces of boxes that miss a query, and tests the others one by
-    /// one). The refit took 32 ms on the million-sample tree's 4.1 million
-    /// runs where a new index took 2.0 s.
+    /// one). A refit costs a small share of a new index.
     fn follow(&mut self, pos: &mut [V3], moved: &[u32], places: &[V3]) {
         let mut grown: Vec<(u32, P3)> = Vec::new();
         for (&v, &place) in moved.iter().zip(places) {

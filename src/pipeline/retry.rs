@@ -13,12 +13,13 @@ use crate::skeleton::track::SAFE_SWEEP_CAP;
 
 /// Stage 6 on `stage`, constructed from `morphology` by [`construct`]: the
 /// mesh with its overlaps resolved and fillers united. Tubes widened to
-/// [`crate::skeleton::track::SWEEP_CAP`] and the smaller fillers [`FIRST_REACH`] builds can crowd
-/// the fillers on a thick trunk past what the overlap pass cuts; where the
+/// [`crate::skeleton::track::SWEEP_CAP`] and the smaller fillers
+/// [`FIRST_REACH`] builds can crowd the fillers on a thick trunk past what
+/// the overlap pass cuts; where the
 /// first union leaves crossings the cell is built again at [`SAFE_REACH`]
 /// and finished there, retries and all ([`finish`]). Only such cells pay
 /// for the second construction, and only if a contour was widened past the
-/// safe cap or a filler below [`crate::build::filler::MIN_GAIN`] was built:
+/// safe cap or a filler below [`crate::build::filler::gain::MIN_GAIN`] was built:
 /// otherwise the second would be the first again, and the retries go on
 /// from the first.
 ///
@@ -41,7 +42,7 @@ pub fn unite(morphology: &Morphology, params: &Params, stage: Construction) -> R
     finish(safe()?, safe)
 }
 
-/// Step 6 on a constructed stage: the mesh, with the overlaps resolved and
+/// Stage 6 on a constructed stage: the mesh, with the overlaps resolved and
 /// the fillers united with the rest (or dropped; see [`crate::build::filler`]).
 /// `rebuild` constructs the same stage again; it is called only when the
 /// fillers leave crossings the pass cannot cut, so the first try works on the
@@ -170,30 +171,20 @@ fn first_try(mut stage: Construction) -> FirstTry {
 
 /// How many times the mesher unites the fillers again, each time also
 /// without those in the crossings the last try left, before it gives all of
-/// them up. Which contacts the pass fails to cut shifts from try to try. In
-/// trials on a FlyWire neuron of the corpus (with more, larger segment
-/// fillers than built now) the tries without 15 and 17 fillers failed
-/// elsewhere and the one without 23 held, keeping 272; a single retry
-/// would have given all of them up, leaving the cell 18.4 % under the union
-/// of round cones instead of 8.2 %.
+/// them up. Which contacts the pass fails to cut shifts from try to try, so
+/// a few tries keep most fillers where a single one would give them all up.
 const MAX_FILLER_RETRIES: usize = 3;
 
 /// After its first retry, the mesher unites the fillers again only while
 /// those left out are at most this share of their pieces. More means the
-/// contacts are degenerate all over, and leaving out the pieces in the
-/// crossings each try leaves does not get through them: a fly larva neuron
-/// with its coordinates rounded to a 1 µm grid and radii to 0.5 µm had 148
-/// of 634 filler pieces in the crossings its first try left, then 281 and
-/// 330 in all, the retries costing 5.3, 4.3 and 2.6 s (6.8 s the first
-/// try), to end without fillers anyway. The FlyWire trials above left out
-/// 8 %; the corpus's own files never retry.
+/// contacts are degenerate all over (a trace rounded to a voxel grid), and
+/// leaving out the pieces in the crossings each try leaves does not get
+/// through them: every retry costs a whole union, to end without fillers
+/// anyway.
 ///
 /// The first retry is made whatever the share: fillers crowding one thick
-/// trunk can leave one cluster of crossings uncut, and all of them with it.
-/// The fly medulla neuron rounded to the grid left 73 of 155 fillers in
-/// such a cluster; united without those, it came 12.3 % under the union of
-/// round cones' volume instead of 29.8 % without any filler (the grid-rounded
-/// larva, whose retry fails, took 9.1 s instead of 6.2).
+/// trunk can leave one cluster of crossings uncut, and all of them with it;
+/// united without that cluster, the cell keeps the rest of its fillers.
 const MAX_STUCK_SHARE: f64 = 0.125;
 
 /// The fillers' parts of a mesh: parts from `first_part` on, each of the

@@ -95,10 +95,9 @@ pub fn tracks(
             .collect();
         let first = usize::from(matches!(b.attachment, Attachment::Soma { .. }));
         let track = Track::widened_from(&points, &radii, params, None, first, sweep_cap);
-        // A trunk keeps every contour. Thinned, a spinal motoneuron lost
-        // 3.5 % of the union's volume along the cone from its 60 µm soma to
-        // its first trunk point, though the contours along that cone were
-        // all kept (within 3 radii of the start); the cause was not found.
+        // A trunk keeps every contour: thinned, a trunk leaving a large
+        // soma loses volume along its first cone (the cause is not known;
+        // `tests/soma.rs` keeps such cells within bounds).
         if first == 0 { track.thinned() } else { track }
     })
 }

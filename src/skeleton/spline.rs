@@ -124,8 +124,8 @@ pub fn resample(points: &[DVec3], radii: &[f64], r_avg: f64, k1: u32) -> Vec<Sam
                     // At the point's own place along the segment: the
                     // centripetal parameter runs unevenly (a long segment
                     // after a short one is crossed fast at first), and a
-                    // steep cone's section taken at u·d stood up to 2 %
-                    // wide of the union's by the soma.
+                    // steep cone's section taken at u·d stands wide of the
+                    // union's.
                     cone_section(rad[i], rad[i + 1], d, (pos - p1).dot(chord).clamp(0.0, d))
                 },
                 source: if u <= 0.5 { src[i] } else { src[i + 1] },
@@ -172,10 +172,10 @@ pub fn resample(points: &[DVec3], radii: &[f64], r_avg: f64, k1: u32) -> Vec<Sam
 ///
 /// A round cone's section covers only its own segment, but the union also
 /// holds each sample's whole sphere, which reaches over the neighbouring
-/// segments when they are shorter than the radius: auto-traced and EM
-/// skeletons step 2.4 units along a neurite of radius 5 with radii jumping
-/// between 3.75 and 5, and a tube following the segments' own cones lost
-/// about 3 % of such a cell's volume. A sphere off the disc's axis counts
+/// segments when they are shorter than the radius (auto-traced and EM
+/// skeletons step half a radius at a time with radii jumping), and a tube
+/// following the segments' own cones loses a few per cent of such a cell's
+/// volume. A sphere off the disc's axis counts
 /// only by what it holds around the disc's centre (its section's radius less
 /// the offset), so the disc never leaves the spheres' sections.
 pub fn reach_of_spheres(samples: &mut [Sample], points: &[DVec3], radii: &[f64]) {
@@ -238,13 +238,8 @@ pub fn cone_section(r1: f64, r2: f64, d: f64, x: f64) -> f64 {
 ///
 /// The union of round cones runs along the chords; the spline through the
 /// same points bulges off a long segment between bends by a share of its
-/// length, not of the radius. On the corpus, segments of 30 to 70 µm with
-/// radii of 0.4 (a CA1 pyramidal cell) or long straight stretches between
-/// sharp turns (a spinal motoneuron) left 18 % and 48 % of the mesh's area
-/// more than half a radius outside the union, and volume as large inside
-/// it; the mean distance of the surface to the union's was 0.16 and 2.2
-/// µm. Bounded at a tenth of the radius, 0.03 and 0.08 µm (benches/README,
-/// "The spline held to its chords").
+/// length, not of the radius: on segments a hundred radii long, by many
+/// radii. Held within a tenth of the radius, the tube stays on the union.
 pub const DEVIATION_BOUND: f64 = 0.1;
 
 /// One centripetal Catmull-Rom segment from p1 to p2 as a cubic a·u³ + b·u² + c·u + d.

@@ -23,8 +23,7 @@ use super::spline::Sample;
 /// staircase: right-angle steps 2.8 radii long), discs oriented at the scale
 /// r still turn faster than they advance and cross each other; the paper's
 /// rule then skips them, and the band from the last kept contour to the next
-/// cuts whole steps off: a retinal neuron traced on voxels came 3.0 % under
-/// the union of round cones' volume, a synthetic staircase 4.8 %. There the
+/// cuts whole steps off, a few per cent of the cell's volume. There the
 /// scale is widened ([`TURN_SCALES`]) over [`TURN_REACH`] radii around each
 /// pair of neighbouring discs that would cross, until they clear: the
 /// contours then follow the staircase's overall course, and
@@ -144,14 +143,10 @@ pub const TURN_SCALES: [f64; 3] = [1.0, 1.5, 2.0];
 pub const TURN_REACH: f64 = 2.0;
 
 /// [`smooth_tangents`] widens the scale only where both crossing discs lie on
-/// original segments at least this many radii long (a diameter). Widened on
-/// every crossing, the jittering electron-microscopy traces (segments shorter
-/// than a diameter) lost the skipping that kept their tubes smooth: two
-/// FlyWire neurons and a fly larva neuron went from +2.5, +2.3 and +1.4 % of
-/// the union's area to +4.6, +3.5 and +3.7 %, and the fly medulla neuron's
-/// first union failed (its volume −4.1 %). With this rule all four stay
-/// within 0.4 % of where they were, and the voxel staircases are still
-/// widened (benches/README, "Sharp turns").
+/// original segments at least this many radii long (a diameter). Shorter
+/// segments are jitter (electron-microscopy traces), which the scale r
+/// already smooths: widened there too, their tubes lose the skipping that
+/// keeps them smooth and stand out of the union of round cones.
 pub const TURN_SEGMENT: f64 = 2.0;
 
 /// The discs [`smooth_tangents`] tests are this much wider than the

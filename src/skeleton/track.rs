@@ -118,8 +118,8 @@ impl Track {
         keep_only(&mut t.counts, &keep);
         keep_only(&mut t.radii, &keep);
         keep_only(&mut t.arc, &keep);
-        // Without the room of the points dropped: a million-sample tree's
-        // tracks held 0.38 GB for 0.29 GB of points.
+        // Without the room of the points dropped, which on a large tree is
+        // a third more than the points kept.
         t.samples.shrink_to_fit();
         t.frames.shrink_to_fit();
         t.counts.shrink_to_fit();
@@ -174,20 +174,16 @@ impl Track {
 /// Most a contour's radius is widened where the trace jitters below the
 /// radius scale: the tube's bands sweep the length along their smoothed
 /// normals, the round cones the jittering length, and the radius grows by
-/// the square root of their ratio over a radius either side. On the 48
-/// corpus files a cap of 1.15 took the mean volume error against the union
-/// of round cones from −1.52 % to −1.05 %; 1.25 took the two FlyWire EM
-/// traces, the most widened, from −3.60 and −4.34 % to −2.15 and −1.28 %
-/// (benches/README). Wider tubes crowd the fillers on thick trunks, though:
-/// at 1.25 a fly medulla cell's fillers failed to unite, so a cell whose
-/// first union leaves crossings is built again at [`SAFE_SWEEP_CAP`]
-/// ([`crate::pipeline::mesh_morphology`]).
+/// the square root of their ratio over a radius either side, up to this
+/// cap. The cap is wide enough for electron-microscopy traces that jitter
+/// below their radius; wider tubes crowd the fillers on thick trunks,
+/// though, so a cell whose first union leaves crossings is built again at
+/// [`SAFE_SWEEP_CAP`] (`pipeline::unite`).
 pub const SWEEP_CAP: f64 = 1.25;
 
 /// The widening cap of the second construction, for cells whose first
-/// leaves crossings at [`SWEEP_CAP`]: at 1.15 the fly medulla cell unites
-/// whole, 1.13 % over the union of round cones' volume (−16.08 % at 1.25,
-/// its fillers given up).
+/// leaves crossings at [`SWEEP_CAP`]: narrower tubes leave the fillers on a
+/// thick trunk room to unite.
 pub const SAFE_SWEEP_CAP: f64 = 1.15;
 
 /// Per point, how much wider its contour must be for the tube to sweep the

@@ -3,6 +3,12 @@
 
 use std::path::PathBuf;
 
+use neuromesh::internals::build::tubes::{self, Tubes};
+use neuromesh::internals::build::{FIRST_REACH, plan};
+use neuromesh::internals::measure::check::self_intersections;
+use neuromesh::internals::skeleton;
+use neuromesh::{Mesh, Morphology, Params};
+
 /// The repository's copy of the real SWC corpus.
 pub fn real_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/real")
@@ -57,4 +63,56 @@ pub fn manifest() -> Vec<ManifestRow> {
             }
         })
         .collect()
+}
+
+/// Stages 1 to 3 of `m` at the default parameters: its tubes.
+pub fn build_tubes(m: &Morphology) -> Tubes {
+    let params = Params::default();
+    let skeleton = skeleton::prepare(m, &params, FIRST_REACH.sweep_cap).expect("skeleton");
+    let starts = plan::plan(&skeleton, &params);
+    tubes::build(&skeleton, &starts, &params)
+}
+
+/// The tube stage alone (before splicing): no piece of any branch crosses
+/// itself. Returns the number of pieces.
+pub fn assert_pieces_sound(m: &Morphology, what: &str) -> usize {
+    let stage = build_tubes(m);
+    let s = &stage.surface;
+    // Each piece as a mesh of its own vertices only: a copy of the whole
+    // cell's vertices per piece made this test quadratic in the cell's size.
+    let mut local = vec![u32::MAX; s.pos.len()];
+    for (i, t) in stage.tubes.iter().enumerate() {
+        let mut used: Vec<u32> = Vec::new();
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        for f in t.tris.start..t.tris.end {
+            if !s.alive[f as usize] {
+                continue;
+            }
+            faces.push(s.tris[f as usize].map(|k| {
+                if local[k as usize] == u32::MAX {
+                    local[k as usize] = used.len() as u32;
+                    used.push(k);
+                }
+                local[k as usize]
+            }));
+        }
+        assert!(!faces.is_empty(), "{what}: piece {i} has no triangles");
+        let vertices: Vec<[f32; 3]> = used
+            .iter()
+            .map(|&k| s.pos[k as usize].as_vec3().to_array())
+            .collect();
+        for &k in &used {
+            local[k as usize] = u32::MAX;
+        }
+        let piece = Mesh::new(vertices, faces).expect("valid piece");
+        let pairs = self_intersections(&piece.view());
+        assert!(
+            pairs.is_empty(),
+            "{what}: piece {i} of branch {} crosses itself in {} pairs, e.g. {:?}",
+            t.branch,
+            pairs.len(),
+            &pairs[..pairs.len().min(5)]
+        );
+    }
+    stage.tubes.len()
 }

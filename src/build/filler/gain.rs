@@ -8,33 +8,24 @@ use crate::skeleton::track::Track;
 
 /// A filler is built when the volume it adds is estimated at this fraction
 /// of the cell's or more. Each filler costs a couple of hundred crossing
-/// pairs in the overlap pass; most (a thin branch leaving a thick one, two
-/// thin ones forking) add a sliver the splice's bridge nearly covers, 0.01 %
-/// of a mouse pyramidal cell's volume each. Over the 48 corpus files, 0.02 %
-/// (rather than 0.03 %) brings two more within 3 % of the union's volume for
-/// 3 % more survey time (about 5 % on one thread); 0.01 % brings the same two
-/// for 61 % more. On the synthetic scale tree 0.02 % costs 30 %: its extra
-/// fillers bring another whole-mesh round of the overlap pass (benches/README,
-/// "Smaller fillers").
+/// pairs in the overlap pass, and most (a thin branch leaving a thick one,
+/// two thin ones forking) add a sliver the splice's bridge nearly covers:
+/// below this share they cost more time than the volume they add is worth.
 pub const MIN_GAIN: f64 = 2e-4;
 
 /// The smallest filler the first construction builds
-/// ([`crate::pipeline::FIRST_REACH`]), as a share of the cell's volume; a
-/// cell whose first union leaves crossings is built again with
-/// [`MIN_GAIN`]. Where a thin trace jogs every few tenths of its radius
-/// (a fly larva neuron, radius 0.2 and samples 0.14 apart), each lost
-/// segment is a few hundredths of a percent of the cell but together they
-/// are several percent: 845 segments below [`MIN_GAIN`] were estimated at
-/// 8.5 % of its volume, and the cell came 5.5 % under the union of round
-/// cones. At 0.01 % it comes 2.0 % under (benches/README, "Finer fillers").
+/// ([`crate::build::FIRST_REACH`]), as a share of the cell's volume; a cell
+/// whose first union leaves crossings is built again with [`MIN_GAIN`].
+/// Where a thin trace jogs every few tenths of its radius (electron
+/// microscopy traces), each lost segment is a few hundredths of a percent of
+/// the cell, but together they are several percent.
 pub const FINE_MIN_GAIN: f64 = 1e-4;
 
 /// Fillers are built only when together they are estimated to add this
 /// fraction of the cell's volume or more. Below it they cost more time than
-/// the volume they add is worth: one filler estimated at 0.03 % of the
-/// cell doubled the meshing time of a 26,000-sample mouse cell (its union
-/// failed and the cell was meshed again without it), four at 0.15 % did
-/// the same to a retinal ganglion cell.
+/// the volume they add is worth: a few fillers can double a cell's meshing
+/// time (where their union fails and the cell is meshed again without
+/// them) for a fraction of a percent of its volume.
 pub const MIN_TOTAL_GAIN: f64 = 0.005;
 
 /// The filler of a secondary whose tube starts at track point `start`

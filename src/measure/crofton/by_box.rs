@@ -20,7 +20,8 @@
 
 use glam::DVec3;
 
-use super::{PILOT, Tally, allocate, line_interval, stream, totals};
+use super::intervals::line_interval;
+use super::strata::{PILOT, Tally, allocate, stream, totals};
 use crate::kernel::rng::Rng;
 use crate::kernel::round_cone::RoundCone;
 
@@ -60,7 +61,7 @@ pub(super) fn measure(cones: &[RoundCone], lines: usize, seed: u64) -> (f64, f64
     let (cost, drawn) = scout
         .iter()
         .fold((0.0, 0.0), |(c, n), t| (c + t.cost, n + t.area.n));
-    let extra = (PILOT as f64).min(PILOT as f64 * super::COST_PER_LINE * drawn / cost);
+    let extra = (PILOT as f64).min(PILOT as f64 * super::strata::COST_PER_LINE * drawn / cost);
     let discs: Vec<f64> = cells
         .iter()
         .map(|c| (c.hi - c.lo).length_squared())

@@ -19,7 +19,8 @@
 
 use glam::DVec3;
 
-use super::{PILOT, Tally, allocate, line_interval, stream, totals};
+use super::intervals::line_interval;
+use super::strata::{PILOT, Tally, allocate, stream, totals};
 use crate::kernel::bvh::Bvh;
 use crate::kernel::rng::Rng;
 use crate::kernel::round_cone::RoundCone;

@@ -44,19 +44,12 @@
 mod by_box;
 mod by_primitive;
 mod intervals;
+mod strata;
 
-pub(crate) use intervals::line_interval;
-
-use crate::kernel::rng::Rng;
 use crate::kernel::round_cone::RoundCone;
 
-/// Lines of the pilot round.
-pub const PILOT: usize = 50_000;
 /// Lines of the main round, the only one counted.
 pub const LINES: usize = 200_000;
-/// The rounds' budgets of intervals computed, per line of their line
-/// budgets: where a line costs more, a round takes fewer lines.
-const COST_PER_LINE: f64 = 1000.0;
 /// Lines of the probe that picks the estimator.
 const PROBE: usize = 256;
 /// Mean intervals per probe line above which the boxes are used: about 10
@@ -79,100 +72,10 @@ pub(crate) fn measure(cones: &[RoundCone], lines: usize) -> (f64, f64) {
     }
 }
 
-/// The running mean and variance of one box's line values.
-#[derive(Default, Clone, Copy)]
-pub(crate) struct Moments {
-    n: f64,
-    sum: f64,
-    squares: f64,
-}
-
-impl Moments {
-    fn add(&mut self, y: f64) {
-        self.n += 1.0;
-        self.sum += y;
-        self.squares += y * y;
-    }
-    fn merge(&mut self, other: &Moments) {
-        self.n += other.n;
-        self.sum += other.sum;
-        self.squares += other.squares;
-    }
-    fn mean(&self) -> f64 {
-        if self.n > 0.0 { self.sum / self.n } else { 0.0 }
-    }
-    fn variance(&self) -> f64 {
-        (self.squares / self.n - self.mean().powi(2)).max(0.0)
-    }
-}
-
-/// One box's lines: the values whose means are its shares of the union's
-/// area and volume, and what its lines cost (in intervals).
-#[derive(Default, Clone, Copy)]
-pub(crate) struct Tally {
-    area: Moments,
-    volume: Moments,
-    cost: f64,
-}
-
-impl Tally {
-    fn merge(&mut self, other: &Tally) {
-        self.area.merge(&other.area);
-        self.volume.merge(&other.volume);
-        self.cost += other.cost;
-    }
-}
-
-pub(crate) fn totals(tallies: &[Tally]) -> (f64, f64) {
-    tallies.iter().fold((0.0, 0.0), |(a, v), t| {
-        (a + t.area.mean(), v + t.volume.mean())
-    })
-}
-
-/// The main round's lines per stratum from the pilot's tallies: Neyman
-/// allocation with costs, the value's spread (area and volume, each relative
-/// to the union's) over the root of a line's cost, within the budgets of
-/// `lines` lines and `lines · COST_PER_LINE` intervals; at least `least`
-/// and at least as many as the pilot drew.
-pub(crate) fn allocate(pilot: &[Tally], lines: usize, least: u32) -> Vec<u32> {
-    let (area, volume) = totals(pilot);
-    let spreads: Vec<(f64, f64)> = pilot
-        .iter()
-        .map(|t| {
-            let spread = (t.area.variance() / (area * area)
-                + t.volume.variance() / (volume * volume))
-                .sqrt();
-            (
-                if spread.is_finite() { spread } else { 0.0 },
-                (t.cost / t.area.n).max(1.0),
-            )
-        })
-        .collect();
-    let by_lines: f64 = spreads.iter().map(|(s, c)| s / c.sqrt()).sum();
-    let by_cost: f64 = spreads.iter().map(|(s, c)| s * c.sqrt()).sum();
-    let scale = if by_lines > 0.0 {
-        (lines as f64 / by_lines).min(lines as f64 * COST_PER_LINE / by_cost)
-    } else {
-        0.0
-    };
-    // Never fewer than the pilot drew there: a stratum whose few pilot
-    // lines all missed what it holds looks certain, and starving it would
-    // make the estimate usually low and rarely far too high.
-    spreads
-        .iter()
-        .zip(pilot)
-        .map(|((s, c), t)| ((scale * s / c.sqrt()).max(t.area.n).ceil() as u32).max(least))
-        .collect()
-}
-
-/// The generator of one stratum (primitive or box) in one round.
-pub(crate) fn stream(seed: u64, stratum: usize) -> Rng {
-    Rng::new(0xC50F_70A5 ^ seed ^ (stratum as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kernel::rng::Rng;
     use glam::DVec3;
     use std::f64::consts::PI;
 

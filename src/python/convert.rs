@@ -1,0 +1,58 @@
+//! A core [`Mesh`] moved into numpy arrays (no copy) and wrapped into the
+//! pure-Python `neuromesh_rs.Mesh`.
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use super::MeshError;
+use crate::mesh::{BuildStats, Mesh};
+
+type MeshTuple<'py> = (
+    Bound<'py, PyArray2<f32>>,
+    Bound<'py, PyArray2<u32>>,
+    Bound<'py, PyArray1<u32>>,
+    Bound<'py, PyDict>,
+    (f64, f64, f64),
+);
+
+fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("branches", s.branches)?;
+    d.set_item("branches_hidden", s.branches_hidden)?;
+    d.set_item("contours_skipped", s.contours_skipped)?;
+    d.set_item("junctions_paper", s.junctions_paper)?;
+    d.set_item("junctions_moved", s.junctions_moved)?;
+    d.set_item("junctions_fallback", s.junctions_fallback)?;
+    d.set_item("junctions_detached", s.junctions_detached)?;
+    d.set_item("soma_trunks", s.soma_trunks)?;
+    d.set_item("overlap_pairs", s.overlap_pairs)?;
+    d.set_item("overlap_pairs_left", s.overlap_pairs_left)?;
+    d.set_item("fillers", s.fillers)?;
+    Ok(d)
+}
+
+/// Moves the mesh's buffers into numpy arrays (no copy).
+fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
+    let n = mesh.vertices.len();
+    let f = mesh.faces.len();
+    let stats = stats_dict(py, &mesh.stats)?;
+    let [ox, oy, oz] = mesh.origin;
+    let vertices = Array2::from_shape_vec((n, 3), mesh.vertices.into_flattened())
+        .map_err(|e| MeshError::new_err(e.to_string()))?
+        .into_pyarray(py);
+    let faces = Array2::from_shape_vec((f, 3), mesh.faces.into_flattened())
+        .map_err(|e| MeshError::new_err(e.to_string()))?
+        .into_pyarray(py);
+    let samples = mesh.vertex_sample.into_pyarray(py);
+    Ok((vertices, faces, samples, stats, (ox, oy, oz)))
+}
+
+/// Wraps a core mesh into the pure-Python `neuromesh_rs.Mesh` class.
+pub(super) fn python_mesh(py: Python<'_>, mesh: Mesh) -> PyResult<Bound<'_, PyAny>> {
+    let parts = mesh_tuple(py, mesh)?;
+    py.import("neuromesh_rs._mesh")?
+        .getattr("Mesh")?
+        .call_method1("_from_native", parts)
+}
