@@ -65,12 +65,12 @@ pub mod batch;
 pub mod io;
 
 pub use error::{Error, Result, SwcError};
-pub use input::morphology::{Cleaning, Morphology, Soma, SomaKind, Tree};
+pub use input::morphology::{Cleaning, Morphology, NO_PARENT, Soma, SomaKind, Tree};
 pub use measure::report::MeshReport;
 pub use measure::skeleton::SkeletonMeasures;
 pub use measure::summary::Summary;
 pub use measure::union::UnionMeasures;
-pub use mesh::{BuildStats, Mesh, MeshView};
+pub use mesh::{BuildStats, Mesh, MeshView, frame_origin};
 pub use params::{
     DEFAULT_ANGLE_THRESHOLD, DEFAULT_CAP_RINGS, DEFAULT_K1, DEFAULT_MAX_VERTICES,
     DEFAULT_MIN_RADIUS, DEFAULT_MIN_VERTICES, DEFAULT_RESOLUTION, DEFAULT_SCALE, PARAM_NAMES,

@@ -48,7 +48,7 @@ pub struct BuildStats {
     /// there (0 when it was).
     pub overlap_pairs_left: u32,
     /// Branches whose stretch before their first clear contour was added as a
-    /// filler and united with the rest ([`crate::build::filler`]); 0 when the
+    /// filler and united with the rest (see `ARCHITECTURE.md`); 0 when the
     /// overlap pass could not take the fillers and the cell was meshed
     /// without them.
     pub fillers: u32,

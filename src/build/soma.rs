@@ -29,7 +29,8 @@
 //!   "intersected copies") are resolved before the tubes are built: the
 //!   thickest trunk keeps its footprint, and a trunk whose footprint would
 //!   overlap one already kept is spliced onto the surface like a secondary
-//!   branch (see [`crate::pipeline`]), starting beyond the kept trunk's volume.
+//!   branch (see [`crate::build::plan`]), starting beyond the kept trunk's
+//!   volume.
 //!   No footprint is ever cut, so the triangulation never sees crossing
 //!   constraints.
 //!

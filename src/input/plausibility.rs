@@ -17,9 +17,9 @@ pub const RADIUS_PER_SEGMENT: f64 = 20.0;
 
 impl Morphology {
     /// Why the radii look like another unit than the coordinates, if they
-    /// do: the median neurite radius is over [`RADIUS_PER_SEGMENT`] median
-    /// segment lengths, or the largest neurite radius exceeds the bounding
-    /// box's diagonal.
+    /// do: the median neurite radius is over 20 median segment lengths
+    /// (`RADIUS_PER_SEGMENT`), or the largest neurite radius exceeds the
+    /// bounding box's diagonal.
     pub fn radius_warning(&self) -> Option<String> {
         radius_warning(self)
     }

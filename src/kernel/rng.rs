@@ -8,8 +8,8 @@
 
 use super::hash::mix64;
 
-/// SplitMix64: a counter stepped by the golden ratio, mixed by
-/// [`mix64`].
+/// SplitMix64: a counter stepped by the golden ratio, mixed by SplitMix64's
+/// finaliser.
 #[derive(Debug, Clone)]
 pub struct Rng(u64);
 

@@ -68,8 +68,7 @@ impl MeshView<'_> {
     /// [`MeshView::check`] without the union of round cones
     /// (`skeleton.union` is `None`; the NeuroMorpho-style measures are there).
     /// The union is a Monte Carlo estimate, and on cells of thousands of
-    /// nested balls it costs far more than the rest of the check (about a
-    /// minute for the CAR 66k cell of the corpus, [`crate::measure::union`]): this is
+    /// nested balls it costs far more than the rest of the check: this is
     /// for callers that only need the mesh's own soundness.
     pub fn check_without_union(&self, morphology: Option<&Morphology>) -> MeshReport {
         self.check_measuring(morphology, false)

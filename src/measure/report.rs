@@ -8,7 +8,7 @@ use crate::mesh::BuildStats;
 /// At most this many intersecting pairs are listed in a report (all are counted).
 pub const MAX_LISTED_PAIRS: usize = 100;
 
-/// What [`Mesh::check`] found.
+/// What [`Mesh::check`](crate::Mesh::check) found.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MeshReport {
     /// Vertices in the mesh.
@@ -53,7 +53,7 @@ pub struct MeshReport {
     /// The skeleton's own measures (only with a morphology): NeuroMorpho.Org
     /// style and the union of round cones.
     pub skeleton: Option<SkeletonMeasures>,
-    /// Up to [`MAX_LISTED_PAIRS`] intersecting face pairs, smallest first.
+    /// Up to 100 intersecting face pairs, smallest first.
     pub intersecting_pairs: Vec<[u32; 2]>,
     /// How the mesh was built (zeros for meshes read from files).
     pub stats: BuildStats,

@@ -39,10 +39,10 @@ pub fn retriangulate(pos: &[V3], faces: &[[u32; 3]], cuts: &mut Cuts) -> Result<
     retriangulate_with(pos, faces, cuts, None, None)
 }
 
-/// [`retriangulate`], taking the pieces of a face from `reuse` where its
-/// inputs are those it remembers, and remembering in `record` what each
-/// face gave ([`super::cut_memo`]). The pieces are those [`retriangulate`]
-/// gives.
+/// Every cut face re-triangulated (see the module docs), taking the pieces
+/// of a face from `reuse` where its inputs are those it remembers, and
+/// remembering in `record` what each face gave ([`super::cut_memo`]). The
+/// pieces are those a re-triangulation without memos gives.
 pub fn retriangulate_with(
     pos: &[V3],
     faces: &[[u32; 3]],

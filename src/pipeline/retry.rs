@@ -17,7 +17,7 @@ use crate::skeleton::track::SAFE_SWEEP_CAP;
 /// [`FIRST_REACH`] builds can crowd the fillers on a thick trunk past what
 /// the overlap pass cuts; where the
 /// first union leaves crossings the cell is built again at [`SAFE_REACH`]
-/// and finished there, retries and all ([`finish`]). Only such cells pay
+/// and finished there, retries and all. Only such cells pay
 /// for the second construction, and only if a contour was widened past the
 /// safe cap or a filler below [`crate::build::filler::gain::MIN_GAIN`] was built:
 /// otherwise the second would be the first again, and the retries go on

@@ -10,6 +10,9 @@
 //! `RuntimeError`) for internal failures. No panic reaches Python: the core has
 //! no input-driven panics.
 
+// The docstrings are numpy style, read by Python, not Markdown.
+#![allow(rustdoc::invalid_rust_codeblocks)]
+
 mod convert;
 mod mesh;
 mod morphology;

@@ -17,7 +17,7 @@
 //! by more than [`DEVIATION_BOUND`] of the radius: the union of round cones the
 //! mesh stands for runs along the chords.
 //!
-//! Contour orientation: [`smooth_tangents`] then turns each tangent into the
+//! Contour orientation: [`super::tangents::smooth_tangents`] then turns each tangent into the
 //! direction of the curve over one radius either side, the scale at which a disc
 //! of that radius sees the skeleton.
 //!

@@ -190,7 +190,7 @@ pub const SAFE_SWEEP_CAP: f64 = 1.15;
 /// volume its own stretch of skeleton does. A band between two contours
 /// holds about πr² times the distance between them *along the contour
 /// normals*; the normals follow the curve smoothed over a radius
-/// ([`spline::smooth_tangents`]), so where the trace jitters at a smaller
+/// ([`super::tangents::smooth_tangents`]), so where the trace jitters at a smaller
 /// scale the tube covers only the smoothed length, while the round cones
 /// cover the jittering one. Over a window of a radius either side, the
 /// ratio of the two lengths is made up by the cross-section: the radius

@@ -22,7 +22,7 @@
 //! to cross themselves, [`crate::build::tube::pieces`]) and capped at both ends. It starts
 //! inside what the branch grows out of and ends inside the tube's first band
 //! (its end dome reaches past the contour before the start), so it overlaps
-//! both; the overlap pass ([`crate::overlap`]) keeps only what lies outside
+//! both; the overlap pass (stage 6) keeps only what lies outside
 //! every other part, which is the volume the start rule left out.
 //!
 //! The same holds where a branch's tube breaks into pieces
@@ -33,16 +33,14 @@
 //! zig-zag of segments a few radii long, a hairpin) the contours left out
 //! are its only cover. Each original segment whose left-out contours reach
 //! out of what the pieces hold gets a *segment filler*: its own round cone,
-//! straight ([`Straight`], [`segment_track`]), domed at both ends. A filler
-//! along the track would skip the same contours. On the 48 files of the
-//! corpus they brought the volume of an olivocerebellar climbing fibre from
-//! 5.9 % under the union of round cones to 2.3 %, of an amoeboid microglia
-//! from 4.2 % to 1.8 %, of a FlyWire neuron from 10.7 % to 7.6 %. Trunks get
+//! straight ([`cone::Straight`], [`cone::segment_track`]), domed at both
+//! ends. A filler along the track would skip the same contours. Trunks get
 //! their start filler from [`crate::build::plan`]: their first round cone,
 //! straight.
 //!
-//! Only fillers estimated to add [`MIN_GAIN`] of the cell's volume are built,
-//! and only when together they add [`MIN_TOTAL_GAIN`]: each costs a couple
+//! Only fillers estimated to add [`gain::MIN_GAIN`] of the cell's volume are
+//! built, and only when together they add [`gain::MIN_TOTAL_GAIN`]: each
+//! costs a couple
 //! of hundred crossing pairs. Branch points on the soma
 //! get none (the soma is one sphere in the reference, not its samples).
 //! A filler wholly inside the rest crosses nothing and is dropped with the
@@ -51,9 +49,8 @@
 //! leaves a crossing uncut, the cell is meshed again without the filler
 //! pieces in the crossings left (up to three more times, each also without
 //! those in the crossings the try before left), then, if need be, without
-//! any ([`crate::pipeline::finish`]); each meshing costs its own time (a
-//! FlyWire neuron, two threads: 2.0 s with one retry, 0.58 s before it had
-//! segment fillers). Filler pieces left touching
+//! any (`pipeline::retry`); each meshing costs its own time. Filler pieces
+//! left touching
 //! nothing, and voids the fillers close in, are removed after the union.
 
 pub mod cone;

@@ -33,7 +33,7 @@
 //!   (as the skeleton's round cone between them is) or into the nearest
 //!   surface, and capped there; where neither end lies behind its first
 //!   contour, its start is capped and a thinner capsule reaches from the cap
-//!   into the nearest surface. The overlap pass ([`crate::overlap`]) then
+//!   into the nearest surface. The overlap pass (stage 6) then
 //!   replaces the crossing parts by the boundary of their union;
 //! * *detached*: with no other surface near the junction at all (the
 //!   capsule looks first within reach of the branch point, then anywhere the

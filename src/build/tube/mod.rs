@@ -83,7 +83,8 @@ pub struct Tube {
     pub branch: u32,
     /// The kept contours, in order of travel: all of them as
     /// [`crate::build::tube::pieces::build_pieces`] builds the tube, the first
-    /// [`KEPT_RINGS`] of them in a [`crate::pipeline::TubeStage`].
+    /// [`KEPT_RINGS`] of them once appended to the cell's surface
+    /// ([`Tube::appended_at`]).
     pub rings: Vec<Ring>,
     /// First triangle of the band between ring i and ring i + 1; one more entry
     /// marks the end of the last band.

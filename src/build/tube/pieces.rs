@@ -6,7 +6,7 @@
 //! running into an earlier, non-adjacent part of itself: a branch that curls
 //! back closer than its radius, a thin stretch that passes through a much
 //! thicker one, a hairpin. So every band (and every cap) is checked against
-//! the earlier bands of its piece before it is kept ([`super::guard`]).
+//! the earlier bands of its piece before it is kept (`tube::guard`).
 //!
 //! A band that would collide ends the piece there; the rest of the branch
 //! starts a new piece (a separate closed tube now, spliced onto this one like
