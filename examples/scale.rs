@@ -1,4 +1,4 @@
-//! Scaling of the whole pipeline on seeded random neurons (issue 6):
+//! Scaling of the whole pipeline on seeded random neurons:
 //! `cargo run --release --example scale -- 10000 [SEED]` writes the tree to a
 //! temporary SWC file, meshes it end to end (read, mesh, in memory) on one
 //! thread, and prints samples, triangles, time and the process's peak resident

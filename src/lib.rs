@@ -24,14 +24,14 @@
 //! | stage | module | paper | produces |
 //! | --- | --- | --- | --- |
 //! | 0. read | `input::swc`, `input::morphology` | — | `SwcFile`, [`Morphology`] |
-//! | 1. skeleton | `skeleton` (`branch`, `spline`, `frame`, `contour`, `thinning`, `track`) | §3.1; §3.2, formulas 1–3 | `Skeleton`: branches and their `Track`s |
+//! | 1. skeleton | `skeleton` (`geometry`, `branch`, `spline`, `tangents`, `frame`, `contour`, `thinning`, `track`) | §3.1; §3.2, formulas 1–3 | `Skeleton`: branches and their `Track`s |
 //! | 2. plan | `build::plan` (with `build::coverage`) | §3.2 (contours inside the primary), §3.3 (trunks) | `Starts` |
-//! | 3. tubes | `build::tubes`, `build::tube` (`pieces`, `band`) | §3.2, contour connection, caps | `Tubes` |
+//! | 3. tubes | `build::tubes`, `build::tube` (`pieces`, `guard`, `band`, `cap`) | §3.2, contour connection, caps | `Tubes` |
 //! | — fillers chosen | `build::filler` | beyond the paper | `FillerPlan` |
 //! | 4. somas | `build::soma`, run by `build::join_somas` | §3.3 | `Open` |
-//! | 5. splicing | `build::splice` (`region`, `bridge`, `index`) | §3.2, Fig. 5–6 | `Spliced` |
-//! | 5b. fillers | `build::filler`, run by `build::build_fillers` | beyond the paper | `Construction` |
-//! | 6. overlaps | `overlap` (`pairs`, `cut`, `settle`, `patches`, `boundary`, `verify`) | beyond the paper | [`Mesh`] |
+//! | 5. splicing | `build::splice` (`splicer`, `region`, `bridge`, `fallback`, `index`) | §3.2, Fig. 5–6 | `Spliced` |
+//! | 5b. fillers | `build::filler` (`gain`, `cone`, `select`), run by `build::build_fillers` | beyond the paper | `Construction` |
+//! | 6. overlaps | `overlap` (`pairs`, `cut`, `retriangulate`, `settle`, `patches`, `boundary`, `verify`, `assembly`) | beyond the paper | [`Mesh`] |
 //! | — retries | `pipeline` (`retry`, `shells`) | beyond the paper | [`Mesh`] |
 //! | — star hull | `build::star_hull` | beyond the paper (radius codes) | [`Mesh`] |
 //! | out | [`io`], `measure::check` | — | OBJ, PLY, STL; [`MeshReport`] |

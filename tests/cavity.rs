@@ -1,5 +1,5 @@
 //! A union of parts can enclose a void: a cell's membrane has none, so the
-//! mesher fills it (`mesher::drop_shells`) rather than leave an inward shell
+//! mesher fills it (`pipeline::shells`) rather than leave an inward shell
 //! that makes the mesh fail "outward".
 
 use neuromesh::{Morphology, Params};

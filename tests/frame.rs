@@ -2,10 +2,9 @@
 //! Allen CCF cells sit ~10⁴ µm out) mesh as they do at the origin.
 //!
 //! Vertices are f32; at 12,000 units their step is 0.001, 4 % of the
-//! 0.025-unit processes of the glial cell used here. Before the mesher built
-//! such cells around a point near their centre, this cell moved by
-//! (12345.678, −23456.789, 5432.1) meshed with its area 244 % over the union
-//! of round cones and with crossing faces.
+//! 0.025-unit processes of the glial cell used here: meshed in the file's
+//! own frame, rounding would fold its thin processes into each other. Such a
+//! cell is built around a point near its centre (`Mesh::origin`).
 
 mod common;
 

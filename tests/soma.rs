@@ -1,6 +1,6 @@
-//! Issue 5: the soma. Synthetic cells (a soma alone, with one, three and twelve
-//! neurites) against the union of their round cones, and every real file as
-//! one surface per tree.
+//! The soma: synthetic cells (a soma alone, with one, three and twelve
+//! neurites, crowded trunks, trunks thicker than their soma) against the
+//! union of their round cones.
 //!
 //! The reference area and volume are those of the exact union of the
 //! skeleton's round cones with the soma as one sphere, integrated by seeded

@@ -1,7 +1,7 @@
-//! Issue 4: splicing. Junctions of every hard kind, and random trees with
+//! Splicing: junctions of every hard kind, and random trees with
 //! multifurcations, give one closed surface per tree (plus one per junction
 //! the report counts as detached). The real files are covered by
-//! `tests/soma.rs`, which checks every one of them the same way.
+//! `tests/corpus.rs`, which checks every one of them the same way.
 
 use neuromesh::{Mesh, MeshReport, Morphology, Params};
 use proptest::prelude::*;

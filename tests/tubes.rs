@@ -1,5 +1,6 @@
-//! Issue 3: neurite tubes. Simple shapes against their analytic area and volume,
-//! every branch of every real file, and random branches.
+//! Neurite tubes: simple shapes against their analytic area and volume, and
+//! random branches whose every piece must be sound. (Every branch of every
+//! real file is checked by `tests/corpus.rs`.)
 
 mod common;
 
@@ -198,7 +199,7 @@ proptest! {
         let what = format!("{pts:?} {radii:?}");
         common::assert_pieces_sound(&m, &what);
         // Where the path folds back through itself the spliced surface may
-        // cross its own earlier part: that is the union's business (issue 4's
+        // cross its own earlier part: that is the union's business (the splice's
         // tests), not the tube's.
         assert_closed(&mesh, &what);
     }

@@ -267,7 +267,7 @@ fn set_trunk_filler(
     };
     // Up to its first contour half a step or more beyond the tube's start,
     // so that its end lies in the tube, drawn in there ([`TUCK`]) and capped
-    // flat (`mesher::build_fillers`). Ending at full radius, its last bands
+    // flat (`build::build_fillers`). Ending at full radius, its last bands
     // would run along the tube's own first bands, the same cone drawn by
     // polygons out of phase: hundreds of grazing crossings (Allen 177300's
     // overlap pass took 290 ms instead of 70, four rounds of nudges). A dome

@@ -115,16 +115,8 @@ pub fn cap(
 mod tests {
     use super::*;
     use crate::build::tube::place_ring;
+    use crate::build::tube::tests::straight;
     use crate::mesh::BuildStats;
-    use crate::params::Params;
-    use crate::skeleton::track::Track;
-
-    fn straight(n: usize, r: f64) -> Track {
-        let pts: Vec<DVec3> = (0..n)
-            .map(|i| DVec3::new(i as f64 * 2.0, 0.0, 0.0))
-            .collect();
-        Track::new(&pts, &vec![r; n], &Params::DEFAULT, None)
-    }
 
     #[test]
     fn capped_segment_is_a_closed_outward_capsule() {

@@ -153,13 +153,14 @@ pub fn place_ring(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::band::connect;
     use super::*;
     use crate::mesh::BuildStats;
     use crate::params::Params;
 
-    fn straight(n: usize, r: f64) -> Track {
+    /// A straight track of `n` points 2 apart, radius `r`.
+    pub(crate) fn straight(n: usize, r: f64) -> Track {
         let pts: Vec<DVec3> = (0..n)
             .map(|i| DVec3::new(i as f64 * 2.0, 0.0, 0.0))
             .collect();
