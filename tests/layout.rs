@@ -62,9 +62,14 @@ fn modules(src: &Path) -> BTreeMap<String, PathBuf> {
 /// The code of a file outside its test module, comments and test-only items'
 /// first lines dropped.
 fn code_of(text: &str) -> String {
-    let text = text
-        .find("#[cfg(test)]\nmod tests")
-        .map_or(text, |i| &text[..i]);
+    let test_module = [
+        "#[cfg(test)]\nmod tests",
+        "#[cfg(test)]\npub(crate) mod tests",
+    ]
+    .iter()
+    .filter_map(|m| text.find(m))
+    .min();
+    let text = test_module.map_or(text, |i| &text[..i]);
     let mut out = String::new();
     let mut skip_next = false;
     for line in text.lines() {

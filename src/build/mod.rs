@@ -98,20 +98,34 @@ pub struct Construction {
     pub owner: Vec<u32>,
     /// Counts.
     pub stats: BuildStats,
-    /// Parts numbered from this one are fillers' pieces.
-    pub filler_parts: u32,
-    /// The filler (index into the plan's fillers) of each filler part, from
-    /// `filler_parts` on: a filler is one part per tube piece.
-    pub filler_of_part: Vec<u32>,
-    /// Whether some fillers are below [`filler::gain::MIN_GAIN`] (a construction
-    /// at [`SAFE_REACH`] would leave them out).
-    pub fine_fillers: bool,
+    /// The fillers' parts.
+    pub fillers: FillerParts,
     /// The largest widening of any track's contours
     /// ([`crate::skeleton::track::Track::widest`]).
     pub widest: f64,
     /// The point the surface's positions are relative to
     /// ([`crate::mesh::frame_origin`]; zero for most cells).
     pub origin: [f64; 3],
+}
+
+/// The parts of a construction that are fillers' pieces.
+#[derive(Debug, Clone, Default)]
+pub struct FillerParts {
+    /// Parts numbered from this one are fillers' pieces.
+    pub first: u32,
+    /// The filler (index into the plan's fillers) of each filler part, from
+    /// `first` on: a filler is one part per tube piece.
+    pub of_part: Vec<u32>,
+    /// Whether some fillers are below [`filler::gain::MIN_GAIN`] (a
+    /// construction at [`SAFE_REACH`] would leave them out).
+    pub fine: bool,
+}
+
+impl FillerParts {
+    /// Whether part `part` is a filler's piece.
+    pub fn has(&self, part: u32) -> bool {
+        part != NO_OWNER && part >= self.first
+    }
 }
 
 impl Construction {
@@ -213,7 +227,7 @@ pub fn build_fillers(
         mut owner,
         mut stats,
     } = spliced;
-    let filler_parts = owner
+    let first = owner
         .iter()
         .filter(|&&o| o != NO_OWNER)
         .max()
@@ -221,19 +235,21 @@ pub fn build_fillers(
     stats.fillers = plan.fillers.len() as u32;
     let parts = filler::build(&mut surface, plan, &skeleton.branches, params.cap_rings);
     owner.resize(surface.tris.len(), NO_OWNER);
-    let filler_of_part = parts.iter().map(|p| p.0).collect();
+    let of_part = parts.iter().map(|p| p.0).collect();
     for (k, (_, tris)) in parts.into_iter().enumerate() {
         for o in &mut owner[tris.start as usize..tris.end as usize] {
-            *o = filler_parts + k as u32;
+            *o = first + k as u32;
         }
     }
     Construction {
         surface,
         owner,
         stats,
-        filler_parts,
-        filler_of_part,
-        fine_fillers: plan.fine,
+        fillers: FillerParts {
+            first,
+            of_part,
+            fine: plan.fine,
+        },
         widest: skeleton.widest,
         origin: skeleton.origin,
     }

@@ -269,8 +269,8 @@ fn set_trunk_filler(
     // so that its end lies in the tube, drawn in there ([`TUCK`]) and capped
     // flat (`build::build_fillers`). Ending at full radius, its last bands
     // would run along the tube's own first bands, the same cone drawn by
-    // polygons out of phase: hundreds of grazing crossings (Allen 177300's
-    // overlap pass took 290 ms instead of 70, four rounds of nudges). A dome
+    // polygons out of phase: hundreds of grazing crossings, each a round of
+    // nudges for the overlap pass. A dome
     // there would also bulge out of a cone that narrows faster than a
     // sphere. Its start dome lies in the soma sample's sphere, which the
     // union holds.

@@ -1,4 +1,4 @@
-//! SWC text → raw samples (pipeline step 0).
+//! SWC text → raw samples (stage 0).
 //!
 //! SWC is seven columns per sample: `id type x y z radius parent`. Real files are
 //! untidy, so the reader is tolerant of everything that does not change meaning

@@ -3,7 +3,7 @@
 //! them, up to [`MAX_FILLER_RETRIES`] times, and without any fillers at
 //! last, rather than left crossing itself.
 
-use crate::build::{Construction, FIRST_REACH, SAFE_REACH, construct};
+use crate::build::{Construction, FIRST_REACH, FillerParts, SAFE_REACH, construct};
 use crate::error::Result;
 use crate::input::morphology::Morphology;
 use crate::mesh::Mesh;
@@ -30,7 +30,7 @@ pub fn unite(morphology: &Morphology, params: &Params, stage: Construction) -> R
     // would give the same stage, and the same first try: the retries go on
     // from this one.
     let widened_past_safe = stage.widest > SAFE_SWEEP_CAP * (1.0 + 1e-9);
-    let fine_fillers = stage.fine_fillers;
+    let fine_fillers = stage.fillers.fine;
     let first = first_try(stage);
     if let FirstTry::Clean(mesh) = first {
         return Ok(mesh);
@@ -58,34 +58,26 @@ fn finish(stage: Construction, rebuild: impl FnOnce() -> Result<Construction>) -
 /// leave out the fillers in the crossings it left, on the stage `rebuild`
 /// constructs again.
 fn retry(first: FirstTry, rebuild: impl FnOnce() -> Result<Construction>) -> Result<Mesh> {
-    let (stuck, first_part, filler_of_part) = match first {
+    let (stuck, fillers) = match first {
         FirstTry::Clean(mesh) | FirstTry::Crossed(mesh) => return Ok(mesh),
-        FirstTry::Stuck {
-            stuck,
-            first_part,
-            of_part,
-        } => (stuck, first_part, of_part),
+        FirstTry::Stuck { stuck, fillers } => (stuck, fillers),
     };
     // The fillers add crossings; should the pass fail to cut some, the cell
     // is meshed again without the filler pieces in them (and again, up to
     // `MAX_FILLER_RETRIES` times, without those in the crossings each try
     // leaves), and should that fail too, as the paper builds it, without
     // fillers, rather than left crossing itself.
-    let fillers = Fillers {
-        first_part,
-        of_part: &filler_of_part,
-    };
     // Construction is deterministic: the rebuilt mesh numbers its faces and
     // parts as the first did, so `stuck` and `fillers` still name them.
     let (mesh, face_owner) = rebuild()?.into_mesh();
     let mut stuck = stuck;
     for attempt in 0..MAX_FILLER_RETRIES {
         if stuck.is_empty()
-            || (attempt > 0 && stuck.len() as f64 > MAX_STUCK_SHARE * filler_of_part.len() as f64)
+            || (attempt > 0 && stuck.len() as f64 > MAX_STUCK_SHARE * fillers.of_part.len() as f64)
         {
             break;
         }
-        let (fewer, resolved) = fillers.unite_without(mesh.clone(), face_owner.clone(), |o| {
+        let (fewer, resolved) = unite_without(&fillers, mesh.clone(), face_owner.clone(), |o| {
             stuck.binary_search(&o).is_ok()
         });
         if resolved.outcome.pairs_left == 0 {
@@ -105,9 +97,7 @@ fn retry(first: FirstTry, rebuild: impl FnOnce() -> Result<Construction>) -> Res
             break;
         }
     }
-    Ok(fillers
-        .unite_without(mesh, face_owner, |o| fillers.has(o))
-        .0)
+    Ok(unite_without(&fillers, mesh, face_owner, |o| fillers.has(o)).0)
 }
 
 /// How the first union of a constructed stage went.
@@ -118,23 +108,18 @@ enum FirstTry {
     /// is nothing to leave out and try again.
     Crossed(Mesh),
     /// The fillers' union left crossings: the filler parts in them, sorted,
-    /// and the stage's filler parts (from `first_part`, each of the filler
-    /// `of_part[part - first_part]`).
+    /// and the stage's filler parts.
     Stuck {
         stuck: Vec<u32>,
-        first_part: u32,
-        of_part: Vec<u32>,
+        fillers: FillerParts,
     },
 }
 
 /// The stage's mesh with its overlaps resolved and all its fillers united.
 fn first_try(mut stage: Construction) -> FirstTry {
-    let (first_part, of_part) = (
-        stage.filler_parts,
-        std::mem::take(&mut stage.filler_of_part),
-    );
+    let fillers = std::mem::take(&mut stage.fillers);
     let (mesh, face_owner) = stage.into_mesh();
-    let has_fillers = face_owner.last().is_some_and(|&o| is_filler(o, first_part));
+    let has_fillers = face_owner.last().is_some_and(|&o| fillers.has(o));
     if !has_fillers {
         let mut mesh = mesh;
         resolve_overlaps(&mut mesh, face_owner);
@@ -147,11 +132,7 @@ fn first_try(mut stage: Construction) -> FirstTry {
             FirstTry::Crossed(mesh)
         };
     }
-    let fillers = Fillers {
-        first_part,
-        of_part: &of_part,
-    };
-    let (united, resolved) = fillers.unite_without(mesh, face_owner, |_| false);
+    let (united, resolved) = unite_without(&fillers, mesh, face_owner, |_| false);
     if resolved.outcome.pairs_left == 0 {
         return FirstTry::Clean(united);
     }
@@ -162,11 +143,7 @@ fn first_try(mut stage: Construction) -> FirstTry {
         .copied()
         .filter(|&o| fillers.has(o))
         .collect();
-    FirstTry::Stuck {
-        stuck,
-        first_part,
-        of_part,
-    }
+    FirstTry::Stuck { stuck, fillers }
 }
 
 /// How many times the mesher unites the fillers again, each time also
@@ -187,60 +164,41 @@ const MAX_FILLER_RETRIES: usize = 3;
 /// united without that cluster, the cell keeps the rest of its fillers.
 const MAX_STUCK_SHARE: f64 = 0.125;
 
-/// The fillers' parts of a mesh: parts from `first_part` on, each of the
-/// filler `of_part[part - first_part]`.
-struct Fillers<'a> {
-    first_part: u32,
-    of_part: &'a [u32],
-}
-
-impl Fillers<'_> {
-    /// Whether part `o` is a filler's.
-    fn has(&self, o: u32) -> bool {
-        is_filler(o, self.first_part)
+/// `mesh` (whose face `f` is of part `owner[f]`) without the faces
+/// of the filler parts `dropped` accepts, its overlaps resolved, and what
+/// the pass told. Where nothing crosses, the fillers lie inside the rest
+/// and are removed; where the union was built, so are the shells
+/// [`super::shells::drop_shells`] names. `stats.fillers` counts the fillers kept.
+fn unite_without(
+    fillers: &FillerParts,
+    mut out: Mesh,
+    mut owner: Vec<u32>,
+    dropped: impl Fn(u32) -> bool,
+) -> (Mesh, Resolved) {
+    let gone = |o: u32| fillers.has(o) && dropped(o);
+    if owner.iter().any(|&o| gone(o)) {
+        out.retain_faces(|f| !gone(owner[f]));
+        owner.retain(|&o| !gone(o));
     }
-
-    /// `mesh` (whose face `f` is of part `owner[f]`) without the faces
-    /// of the filler parts `dropped` accepts, its overlaps resolved, and what
-    /// the pass told. Where nothing crosses, the fillers lie inside the rest
-    /// and are removed; where the union was built, so are the shells
-    /// [`super::shells::drop_shells`] names. `stats.fillers` counts the fillers kept.
-    fn unite_without(
-        &self,
-        mut out: Mesh,
-        mut owner: Vec<u32>,
-        dropped: impl Fn(u32) -> bool,
-    ) -> (Mesh, Resolved) {
-        let gone = |o: u32| self.has(o) && dropped(o);
-        if owner.iter().any(|&o| gone(o)) {
-            out.retain_faces(|f| !gone(owner[f]));
-            owner.retain(|&o| !gone(o));
-        }
-        let resolved = overlap::resolve(&mut out, owner);
-        out.stats.overlap_pairs = resolved.outcome.pairs;
-        out.stats.overlap_pairs_left = resolved.outcome.pairs_left;
-        let mut kept: Vec<u32> = (0..self.of_part.len() as u32)
-            .filter(|&k| !dropped(self.first_part + k))
-            .map(|k| self.of_part[k as usize])
-            .collect();
-        if resolved.outcome.pairs == 0 {
-            // The pass changed nothing: the owners it hands back are those
-            // it was given.
-            out.retain_faces(|f| !self.has(resolved.owner[f]));
-            kept.clear();
-        } else if resolved.outcome.pairs_left == 0 && !kept.is_empty() {
-            super::shells::drop_shells(&mut out, |f| self.has(resolved.owner[f]));
-        }
-        kept.sort_unstable();
-        kept.dedup();
-        out.stats.fillers = kept.len() as u32;
-        (out, resolved)
+    let resolved = overlap::resolve(&mut out, owner);
+    out.stats.overlap_pairs = resolved.outcome.pairs;
+    out.stats.overlap_pairs_left = resolved.outcome.pairs_left;
+    let mut kept: Vec<u32> = (0..fillers.of_part.len() as u32)
+        .filter(|&k| !dropped(fillers.first + k))
+        .map(|k| fillers.of_part[k as usize])
+        .collect();
+    if resolved.outcome.pairs == 0 {
+        // The pass changed nothing: the owners it hands back are those
+        // it was given.
+        out.retain_faces(|f| !fillers.has(resolved.owner[f]));
+        kept.clear();
+    } else if resolved.outcome.pairs_left == 0 && !kept.is_empty() {
+        super::shells::drop_shells(&mut out, |f| fillers.has(resolved.owner[f]));
     }
-}
-
-/// Whether a face of part `owner` belongs to a filler.
-fn is_filler(owner: u32, filler_parts: u32) -> bool {
-    owner != crate::mesh::NO_OWNER && owner >= filler_parts
+    kept.sort_unstable();
+    kept.dedup();
+    out.stats.fillers = kept.len() as u32;
+    (out, resolved)
 }
 
 /// Stage 6 on a mesh without fillers: where its parts cross each other,

@@ -1,4 +1,4 @@
-//! Raw samples → an index tree with a soma and clean radii (pipeline step 1).
+//! Raw samples → an index tree with a soma and clean radii (stage 0).
 //!
 //! SWC ids stop here: every later stage sees dense `u32` sample indices into the
 //! arrays of [`Morphology`]. Those indices are also what a mesh vertex carries
