@@ -62,14 +62,10 @@ impl Probe {
     }
 }
 
-/// Uniform numbers in [0, 1) from a xorshift of `seed`.
-fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
-    move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    }
+/// Uniform numbers in [0, 1) from the crate's generator seeded with `seed`.
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut rng = neuromesh::internals::kernel::rng::Rng::new(seed);
+    move || rng.f64()
 }
 
 /// A uniform point in box `b`.

@@ -13,20 +13,8 @@
 mod common;
 
 use neuromesh::internals::input::morphology::NO_PARENT;
+use neuromesh::internals::kernel::rng::Rng;
 use neuromesh::{Morphology, Params};
-
-/// A small seeded generator (SplitMix64) for points in a box.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 #[test]
 fn radius_codes_mesh_as_the_blob_their_balls_make() {
@@ -82,11 +70,11 @@ fn union_of_balls(m: &Morphology) -> (f64, f64) {
         .iter()
         .map(|&(p, r)| dist(p, c) + r)
         .fold(0.0, f64::max);
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     let n = 60_000;
     let inside = (0..n)
         .filter(|_| {
-            let x = [0, 1, 2].map(|a| c[a] + half * (2.0 * rng.unit() - 1.0));
+            let x = [0, 1, 2].map(|a| c[a] + half * (2.0 * rng.f64() - 1.0));
             balls.iter().any(|&(p, r)| dist(x, p) <= r)
         })
         .count();
@@ -108,7 +96,7 @@ fn union_of_balls(m: &Morphology) -> (f64, f64) {
 fn jittered_radius_codes_mesh_as_the_star_hull() {
     let m = Morphology::from_swc(common::real_dir().join("human_cortex_CAR_00148_P003_IPL.swc"))
         .expect("reads");
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let rad = m.radii().to_vec();
     let xyz: Vec<[f64; 3]> = (0..m.len())
         .map(|i| {
@@ -117,7 +105,7 @@ fn jittered_radius_codes_mesh_as_the_star_hull() {
                 return p;
             }
             let a = 0.6 * rad[i];
-            p.map(|x| x + a * (2.0 * rng.unit() - 1.0))
+            p.map(|x| x + a * (2.0 * rng.f64() - 1.0))
         })
         .collect();
     let ids: Vec<i64> = (0..m.len() as i64).collect();
