@@ -66,6 +66,7 @@ pub mod io;
 
 pub use error::{Error, Result, SwcError};
 pub use input::morphology::{Cleaning, Morphology, NO_PARENT, Soma, SomaKind, Tree};
+pub use measure::fidelity::{Deviation, Fidelity, MAX_DEVIATION, P95_DEVIATION};
 pub use measure::report::MeshReport;
 pub use measure::skeleton::SkeletonMeasures;
 pub use measure::summary::Summary;

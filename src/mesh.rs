@@ -157,6 +157,7 @@ impl Mesh {
             vertices: &self.vertices,
             faces: &self.faces,
             vertex_sample: &self.vertex_sample,
+            origin: self.origin,
         }
     }
 
@@ -288,6 +289,8 @@ pub struct MeshView<'a> {
     pub faces: &'a [[u32; 3]],
     /// Per-vertex sample labels, or empty.
     pub vertex_sample: &'a [u32],
+    /// The point the positions are relative to ([`Mesh::origin`]).
+    pub origin: [f64; 3],
 }
 
 impl MeshView<'_> {

@@ -61,7 +61,7 @@ fn a_void_enclosed_by_crossing_branches_is_filled() {
     let m = six_around_a_void(10.0);
     let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
     let r = mesh.view().check(Some(&m));
-    assert!(r.is_valid(), "{r}");
+    assert!(r.is_sound(), "{r}");
     assert_eq!(r.components, 1, "{r}");
     assert_eq!(r.self_intersections, 0, "{r}");
     // The void is inside the mesh now, and so is a point of the tubes.

@@ -44,7 +44,7 @@ fn a_cell_far_from_the_origin_meshes_as_at_the_origin() {
         "a far cell is built around its centre"
     );
     let r = far.check_with(&far_cell);
-    assert!(r.is_valid(), "{r}");
+    assert!(r.is_sound(), "{r}");
     assert_eq!(r.construction_intersections, Some(0), "{r}");
     assert_same_shape(&near, &far, "in memory");
     let (nt, ft) = (near.face_count() as f64, far.face_count() as f64);

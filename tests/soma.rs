@@ -42,7 +42,7 @@ fn cell(r_soma: f64, dirs: &[[f64; 3]], n: usize) -> Morphology {
 fn assert_cell(m: &Morphology, tol: f64, what: &str) -> Mesh {
     let mesh = neuromesh::mesh_morphology(m, &Params::default()).expect("meshes");
     let r = mesh.check_with(m);
-    assert!(r.is_valid(), "{what}\n{r}");
+    assert!(r.is_sound(), "{what}\n{r}");
     assert_eq!(r.components, 1, "{what}\n{r}");
     assert_eq!(r.self_intersections, 0, "{what}\n{r}");
     let u = neuromesh::internals::measure::union::measure_morphology(m);
@@ -205,7 +205,7 @@ fn a_thin_trunk_deep_inside_its_soma_samples_sphere() {
     .expect("valid");
     let mesh = neuromesh::mesh_morphology(&m, &Params::default()).expect("meshes");
     let r = mesh.check_with(&m);
-    assert!(r.is_valid(), "{r}");
+    assert!(r.is_sound(), "{r}");
     assert_eq!(r.components, 1, "{r}");
     assert_eq!(r.self_intersections, 0, "{r}");
     let u = neuromesh::internals::measure::union::measure_morphology(&m);

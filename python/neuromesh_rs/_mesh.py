@@ -25,11 +25,19 @@ class MeshReport:
     ``closed``: every edge is in exactly two faces. ``manifold``: no edge in
     more than two faces and no pinched vertex. ``outward``: neighbouring faces
     agree on orientation and every component encloses positive volume.
-    ``valid``: all of these, no degenerate or duplicate faces, and no
-    self-intersections made by the construction. When the morphology is given,
+    ``sound``: all of these, no degenerate or duplicate faces, and no
+    self-intersection at all. When the morphology is given,
     ``self_intersections`` is split into ``construction_intersections`` and
     ``skeleton_overlaps`` (branches far apart in the tree that pass through each
-    other in space); otherwise both are ``None``.
+    other in space), and ``fidelity`` compares the mesh point by point with the
+    union of the skeleton's round cones: ``samples`` tested (every neurite
+    sample and each soma's centre), ``samples_outside`` and the first of them
+    (``outside``), the vertices' ``deviation_radii`` (median, 95th percentile,
+    worst, in local radii), ``deviation`` (the same in file units) and ``sme``
+    (their mean, in file units); ``faithful`` says every sample is inside and
+    the worst and 95th-percentile deviations are within 0.25 and 0.05 local
+    radii. Without a morphology those are ``None`` and ``faithful`` is true.
+    ``valid``: sound and faithful.
     """
 
     vertices: int
@@ -52,10 +60,13 @@ class MeshReport:
     skeleton_overlaps: int | None
     soma_area: float | None
     skeleton: dict[str, float] | None
+    fidelity: dict[str, Any] | None
     intersecting_pairs: list[tuple[int, int]]
     closed: bool
     manifold: bool
     outward: bool
+    sound: bool
+    faithful: bool
     valid: bool
 
 
@@ -215,7 +226,9 @@ class Mesh:
         -------
         MeshReport
         """
-        d: dict[str, Any] = _native._mesh_check(self._vertices, self._faces, self._vertex_sample, morphology)
+        d: dict[str, Any] = _native._mesh_check(
+            self._vertices, self._faces, self._vertex_sample, morphology, self._origin
+        )
         return MeshReport(**d)
 
     def save(self, path: str | os.PathLike[str]) -> None:

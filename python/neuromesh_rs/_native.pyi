@@ -160,6 +160,7 @@ def _mesh_check(
     faces: NDArray[np.uint32],
     vertex_sample: NDArray[np.uint32] | None = None,
     morphology: Morphology | None = None,
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0),
 ) -> dict[str, Any]: ...
 def _mesh_save(
     vertices: NDArray[np.float32],

@@ -55,10 +55,18 @@ impl RoundCone {
     /// Signed distance-like value: negative inside, zero on the surface (the
     /// true distance outside the lateral part and the caps).
     pub fn sdf(&self, p: DVec3) -> f64 {
+        self.sdf_and_radius(p).0
+    }
+
+    /// [`RoundCone::sdf`], and the radius of the cone's sphere that attains
+    /// it (the sphere along the axis nearest to `p` in that sense): the local
+    /// radius a distance from the cone is measured in.
+    pub fn sdf_and_radius(&self, p: DVec3) -> (f64, f64) {
         let ab = self.b - self.a;
         let d = ab.length();
         if d == 0.0 {
-            return p.distance(self.a) - self.ra.max(self.rb);
+            let r = self.ra.max(self.rb);
+            return (p.distance(self.a) - r, r);
         }
         let u = ab / d;
         let x = (p - self.a).dot(u);
@@ -72,7 +80,8 @@ impl RoundCone {
         } else {
             d
         };
-        ((x - s).powi(2) + y * y).sqrt() - (self.ra - k * s)
+        let r = self.ra - k * s;
+        (((x - s).powi(2) + y * y).sqrt() - r, r)
     }
 
     /// Exact surface area and volume, and the parts' areas for sampling:

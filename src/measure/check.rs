@@ -57,10 +57,12 @@ impl MeshView<'_> {
         r
     }
 
-    /// The full report; with a morphology (and sample labels) self-intersections
-    /// are split into construction defects and skeleton overlaps, and the
-    /// skeleton's measures include the union of its round cones. The caller
-    /// must have validated the view.
+    /// The full report. With a morphology, the mesh is compared point by
+    /// point with the union of the skeleton's round cones
+    /// ([`crate::Fidelity`]) and the skeleton's measures include the union's;
+    /// with sample labels too, self-intersections are split into
+    /// construction defects and skeleton overlaps and the soma's area is
+    /// measured. The caller must have validated the view.
     pub fn check(&self, morphology: Option<&Morphology>) -> MeshReport {
         self.check_measuring(morphology, true)
     }
@@ -79,9 +81,17 @@ impl MeshView<'_> {
         let pairs = self_intersections(self);
         r.self_intersections = pairs.len();
         r.intersecting_pairs = pairs.iter().take(MAX_LISTED_PAIRS).copied().collect();
-        if let Some(m) = morphology
-            && self.vertex_sample.len() == self.vertices.len()
-        {
+        let Some(m) = morphology else {
+            return r;
+        };
+        r.fidelity = Some(super::fidelity::fidelity(self, m));
+        r.skeleton = Some(if union {
+            SkeletonMeasures::with_union(m)
+        } else {
+            SkeletonMeasures::of(m)
+        });
+        // The rest reads the vertices' sample labels.
+        if self.vertex_sample.len() == self.vertices.len() {
             let depth = tree_depths(m);
             let skeleton = pairs
                 .iter()
@@ -100,11 +110,6 @@ impl MeshView<'_> {
                     .map(|f| self.face_area(f))
                     .sum(),
             );
-            r.skeleton = Some(if union {
-                SkeletonMeasures::with_union(m)
-            } else {
-                SkeletonMeasures::of(m)
-            });
         }
         r
     }

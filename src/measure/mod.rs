@@ -7,6 +7,7 @@
 //! `neuromesh info` prints ([`summary`]).
 pub mod check;
 pub mod crofton;
+pub mod fidelity;
 pub mod report;
 pub mod skeleton;
 pub mod summary;

@@ -2,6 +2,7 @@
 //! its verdicts, and its forms for people (`Display`, the `neuromesh check`
 //! table) and for scripts ([`MeshReport::to_json`]).
 
+use crate::measure::fidelity::Fidelity;
 use crate::measure::skeleton::SkeletonMeasures;
 use crate::mesh::BuildStats;
 
@@ -53,6 +54,9 @@ pub struct MeshReport {
     /// The skeleton's own measures (only with a morphology): NeuroMorpho.Org
     /// style and the union of round cones.
     pub skeleton: Option<SkeletonMeasures>,
+    /// The mesh point by point against the union of the skeleton's round
+    /// cones: samples outside, vertices' deviation (only with a morphology).
+    pub fidelity: Option<Fidelity>,
     /// Up to 100 intersecting face pairs, smallest first.
     pub intersecting_pairs: Vec<[u32; 2]>,
     /// How the mesh was built (zeros for meshes read from files).
@@ -72,19 +76,28 @@ impl MeshReport {
     pub fn is_outward(&self) -> bool {
         self.misoriented_edges == 0 && self.inward_components == 0
     }
-    /// Closed, manifold, outward, no degenerate or duplicate faces and no
-    /// self-intersections made by the construction (skeleton overlaps excepted
-    /// when a morphology was given).
-    pub fn is_valid(&self) -> bool {
+    /// A sound surface: closed, manifold, outward, no degenerate or
+    /// duplicate faces and no self-intersection at all (whether the
+    /// construction or the skeleton made it).
+    pub fn is_sound(&self) -> bool {
         self.is_closed()
             && self.is_manifold()
             && self.is_outward()
             && self.degenerate_faces == 0
             && self.duplicate_faces == 0
-            && self
-                .construction_intersections
-                .unwrap_or(self.self_intersections)
-                == 0
+            && self.self_intersections == 0
+    }
+
+    /// Every skeleton sample inside and the vertices within the deviation
+    /// bounds of the union of round cones (see
+    /// [`Fidelity::is_faithful`]); true when no morphology was given.
+    pub fn is_faithful(&self) -> bool {
+        self.fidelity.as_ref().is_none_or(Fidelity::is_faithful)
+    }
+
+    /// Sound and, with a morphology, faithful.
+    pub fn is_valid(&self) -> bool {
+        self.is_sound() && self.is_faithful()
     }
 
     /// The report as a JSON object (stable keys, for scripts and the CLI).
@@ -104,6 +117,7 @@ impl MeshReport {
                 "\"duplicate_faces\":{},\"components\":{},\"inward_components\":{},",
                 "\"euler_characteristic\":{},\"area\":{},\"volume\":{},\"self_intersections\":{},",
                 "\"construction_intersections\":{},\"skeleton_overlaps\":{},\"soma_area\":{},\"skeleton\":{},",
+                "\"sound\":{},\"faithful\":{},\"fidelity\":{},",
                 "\"intersecting_pairs\":[{}],",
                 "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
@@ -141,6 +155,9 @@ impl MeshReport {
                 k.union.map_or("null".to_owned(), |u| json_f64(u.area)),
                 k.union.map_or("null".to_owned(), |u| json_f64(u.volume))
             )),
+            self.is_sound(),
+            self.is_faithful(),
+            self.fidelity.as_ref().map_or("null".to_owned(), fidelity_json),
             pairs.join(","),
             s.branches,
             s.branches_hidden,
@@ -155,6 +172,24 @@ impl MeshReport {
             s.fillers,
         )
     }
+}
+
+fn fidelity_json(f: &Fidelity) -> String {
+    let d = &f.deviation;
+    let three = |v: [f64; 3]| v.map(json_f64).join(",");
+    let outside: Vec<String> = f.outside.iter().map(u32::to_string).collect();
+    format!(
+        concat!(
+            "{{\"samples\":{},\"samples_outside\":{},\"outside\":[{}],",
+            "\"deviation_radii\":[{}],\"deviation\":[{}],\"sme\":{}}}"
+        ),
+        f.samples,
+        f.samples_outside,
+        outside.join(","),
+        three(d.radii),
+        three(d.units),
+        json_f64(d.mean)
+    )
 }
 
 fn json_f64(v: f64) -> String {
@@ -225,6 +260,21 @@ impl std::fmt::Display for MeshReport {
                 k.soma_surface, k.total_surface, k.total_volume
             )?;
         }
+        if let Some(fi) = &self.fidelity {
+            writeln!(
+                f,
+                "samples inside        {} ({} of {} outside)",
+                yes(fi.samples_outside == 0),
+                fi.samples_outside,
+                fi.samples
+            )?;
+            let d = &fi.deviation;
+            writeln!(
+                f,
+                "deviation             median {:.3}, 95 % {:.3}, worst {:.3} local radii ({:.4}, {:.4}, {:.4}); mean {:.4}",
+                d.radii[0], d.radii[1], d.radii[2], d.units[0], d.units[1], d.units[2], d.mean
+            )?;
+        }
         let s = &self.stats;
         if s.branches > 0 {
             writeln!(
@@ -237,6 +287,10 @@ impl std::fmt::Display for MeshReport {
                 "overlaps              {} crossing pairs of parts, {} left after the union ({} fillers)",
                 s.overlap_pairs, s.overlap_pairs_left, s.fillers
             )?;
+        }
+        if self.fidelity.is_some() {
+            writeln!(f, "sound                 {}", yes(self.is_sound()))?;
+            writeln!(f, "faithful              {}", yes(self.is_faithful()))?;
         }
         write!(f, "valid                 {}", yes(self.is_valid()))
     }

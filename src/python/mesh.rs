@@ -22,6 +22,7 @@ fn view<'a>(
     vertices: &'a PyReadonlyArray2<'_, f32>,
     faces: &'a PyReadonlyArray2<'_, u32>,
     samples: Option<&'a PyReadonlyArray1<'_, u32>>,
+    origin: (f64, f64, f64),
 ) -> PyResult<MeshView<'a>> {
     let shape_err = |what: &str, shape: &[usize]| {
         PyValueError::new_err(format!("{what} must have shape (n, 3), got {shape:?}"))
@@ -44,6 +45,7 @@ fn view<'a>(
         vertices: v,
         faces: f,
         vertex_sample: s,
+        origin: [origin.0, origin.1, origin.2],
     };
     view.validate().map_err(to_py)?;
     Ok(view)
@@ -56,7 +58,7 @@ pub(super) fn mesh_area_py(
     vertices: PyReadonlyArray2<'_, f32>,
     faces: PyReadonlyArray2<'_, u32>,
 ) -> PyResult<f64> {
-    let v = view(&vertices, &faces, None)?;
+    let v = view(&vertices, &faces, None, (0.0, 0.0, 0.0))?;
     Ok(py.detach(|| v.area()))
 }
 
@@ -67,7 +69,7 @@ pub(super) fn mesh_volume_py(
     vertices: PyReadonlyArray2<'_, f32>,
     faces: PyReadonlyArray2<'_, u32>,
 ) -> PyResult<f64> {
-    let v = view(&vertices, &faces, None)?;
+    let v = view(&vertices, &faces, None, (0.0, 0.0, 0.0))?;
     Ok(py.detach(|| v.volume()))
 }
 
@@ -105,26 +107,47 @@ fn report_dict<'py>(py: Python<'py>, r: &MeshReport) -> PyResult<Bound<'py, PyDi
         None => None,
     };
     d.set_item("skeleton", skeleton)?;
+    let fidelity = match &r.fidelity {
+        Some(fi) => {
+            let m = PyDict::new(py);
+            m.set_item("samples", fi.samples)?;
+            m.set_item("samples_outside", fi.samples_outside)?;
+            m.set_item("outside", fi.outside.clone())?;
+            m.set_item("deviation_radii", fi.deviation.radii.to_vec())?;
+            m.set_item("deviation", fi.deviation.units.to_vec())?;
+            m.set_item("sme", fi.deviation.mean)?;
+            Some(m)
+        }
+        None => None,
+    };
+    d.set_item("fidelity", fidelity)?;
     let pairs: Vec<(u32, u32)> = r.intersecting_pairs.iter().map(|p| (p[0], p[1])).collect();
     d.set_item("intersecting_pairs", pairs)?;
     d.set_item("closed", r.is_closed())?;
     d.set_item("manifold", r.is_manifold())?;
     d.set_item("outward", r.is_outward())?;
+    d.set_item("sound", r.is_sound())?;
+    d.set_item("faithful", r.is_faithful())?;
     d.set_item("valid", r.is_valid())?;
     Ok(d)
 }
 
-/// The quality report of a mesh given as arrays, as a dict.
+/// The quality report of a mesh given as arrays (positions relative to
+/// `origin`), as a dict.
 #[pyfunction(name = "_mesh_check")]
-#[pyo3(signature = (vertices, faces, vertex_sample=None, morphology=None))]
+#[pyo3(signature = (vertices, faces, vertex_sample=None, morphology=None, origin=(0.0, 0.0, 0.0)))]
+#[pyo3(
+    text_signature = "(vertices, faces, vertex_sample=None, morphology=None, origin=(0.0, 0.0, 0.0))"
+)]
 pub(super) fn mesh_check_py<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'_, f32>,
     faces: PyReadonlyArray2<'_, u32>,
     vertex_sample: Option<PyReadonlyArray1<'_, u32>>,
     morphology: Option<&Bound<'_, PyMorphology>>,
+    origin: (f64, f64, f64),
 ) -> PyResult<Bound<'py, PyDict>> {
-    let v = view(&vertices, &faces, vertex_sample.as_ref())?;
+    let v = view(&vertices, &faces, vertex_sample.as_ref(), origin)?;
     let m = morphology.map(|m| Arc::clone(m.get().inner()));
     let report = py.detach(|| v.check(m.as_deref()));
     report_dict(py, &report)
@@ -142,7 +165,7 @@ pub(super) fn mesh_save_py(
     vertex_sample: Option<PyReadonlyArray1<'_, u32>>,
     origin: (f64, f64, f64),
 ) -> PyResult<()> {
-    let v = view(&vertices, &faces, vertex_sample.as_ref())?;
+    let v = view(&vertices, &faces, vertex_sample.as_ref(), origin)?;
     // The writers take a Mesh; building one copies the arrays once, which is
     // cheap next to formatting the file.
     let mesh = Mesh {

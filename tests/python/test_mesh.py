@@ -107,7 +107,12 @@ def test_a_cell_far_from_the_origin_keeps_its_precision(small_cell: Path, tmp_pa
     assert a.origin == (0.0, 0.0, 0.0) and a.vertices.dtype == np.float32
     assert b.origin != (0.0, 0.0, 0.0)
     assert b.vertices.dtype == np.float64 and b.local_vertices.dtype == np.float32
-    assert b.check(far).valid
+    rb, ra = b.check(far), a.check(near)
+    assert rb.sound
+    # The far mesh is as faithful as the near one: the origin is added back.
+    assert rb.fidelity is not None and ra.fidelity is not None
+    assert rb.fidelity["samples_outside"] == ra.fidelity["samples_outside"]
+    assert abs(rb.fidelity["deviation_radii"][1] - ra.fidelity["deviation_radii"][1]) < 1e-3
     assert abs(b.area / a.area - 1) < 1e-3 and abs(b.volume / a.volume - 1) < 1e-3
     np.testing.assert_allclose(b.vertices.min(axis=0), a.vertices.min(axis=0) + shift, atol=1e-3)
     for ext in ("obj", "ply"):
