@@ -147,6 +147,39 @@ pub fn slices(track: &Track, from: usize, to: usize, weight: impl Fn(usize) -> f
         .sum()
 }
 
+/// How deep, in its own radii, a sample must lie in the round cones that
+/// replace its skipped contour for the mesh to be sure to hold it: the
+/// band between two contours is a ruled surface of polygon edges, not the
+/// cone, and inside it by up to a few per cent of the radius, more where
+/// the contours tilt.
+pub const SAMPLE_DEPTH: f64 = 0.3;
+
+/// An original segment of a track whose skipped contours reach out of what
+/// replaced them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Skipped {
+    /// The segment: the index of its first original point.
+    pub segment: u32,
+    /// The volume its skipped contours leave out, estimated from their
+    /// slices.
+    pub gain: f64,
+    /// Whether an original point of the trace (a sample) among them lies
+    /// outside what replaced them: without the segment's filler the mesh
+    /// would leave that sample out.
+    pub holds_sample: bool,
+}
+
+impl Skipped {
+    /// `self` and `other`, of the same segment, as one.
+    pub fn merged(self, other: Skipped) -> Skipped {
+        Skipped {
+            gain: self.gain + other.gain,
+            holds_sample: self.holds_sample || other.holds_sample,
+            ..self
+        }
+    }
+}
+
 /// The original segments of `track` (index of their first point) whose
 /// skipped contours reach out of what replaced them, with the volume they
 /// leave out, estimated from the contours' slices: between two kept
@@ -161,7 +194,7 @@ pub fn slices(track: &Track, from: usize, to: usize, weight: impl Fn(usize) -> f
 /// segments' round cones are lost: 4 % of a fly larva neuron's volume in
 /// segments missing 90 % of theirs or more. Each such segment gets a filler
 /// of its own round cone (see the module documentation).
-pub fn skipped_segments(track: &Track, kept: &[usize], tail: usize, dome: f64) -> Vec<(u32, f64)> {
+pub fn skipped_segments(track: &Track, kept: &[usize], tail: usize, dome: f64) -> Vec<Skipped> {
     let cone = |j: usize, k: usize| RoundCone {
         a: track.samples[j].pos,
         ra: track.radii[j],
@@ -188,30 +221,39 @@ pub fn skipped_segments(track: &Track, kept: &[usize], tail: usize, dome: f64) -
 
 /// Per original segment of `track` (index of its first point), the volume
 /// of the contours of track points `points` outside every one of `cones`,
-/// estimated from their slices. An original point counts for the segment it
-/// starts (the last one, for the one it ends).
+/// estimated from their slices, and whether an original point among them
+/// lies outside every cone. An original point counts for the segment it
+/// starts (the last one, for the one it ends): that segment's filler holds
+/// it in its dome.
 pub fn segment_gains(
     track: &Track,
     points: std::ops::Range<usize>,
     cones: &[RoundCone],
-) -> Vec<(u32, f64)> {
+) -> Vec<Skipped> {
     let last = track.originals.len().saturating_sub(2);
-    let mut out: Vec<(u32, f64)> = Vec::new();
+    let mut out: Vec<Skipped> = Vec::new();
     let mut hint = None;
     for i in points {
         let w = fraction_outside(track, i, cones, &mut hint);
         if w <= 0.0 {
             continue;
         }
-        let gain = slices(track, i, i + 1, |_| w);
-        let s = (track
-            .originals
-            .partition_point(|&o| o <= i)
-            .saturating_sub(1))
-        .min(last) as u32;
+        let s = &track.samples[i];
+        let skipped = Skipped {
+            segment: (track
+                .originals
+                .partition_point(|&o| o <= i)
+                .saturating_sub(1))
+            .min(last) as u32,
+            gain: slices(track, i, i + 1, |_| w),
+            holds_sample: s.original
+                && !cones.iter().any(|c| {
+                    inside_cone(s.pos, c.a, c.b, c.ra, c.rb, -SAMPLE_DEPTH * track.radii[i])
+                }),
+        };
         match out.last_mut() {
-            Some(o) if o.0 == s => o.1 += gain,
-            _ => out.push((s, gain)),
+            Some(o) if o.segment == skipped.segment => *o = o.merged(skipped),
+            _ => out.push(skipped),
         }
     }
     out
@@ -329,8 +371,11 @@ impl ConeIndex {
 
     /// The cones that come within `reach` of `p`.
     pub fn near(&self, tracks: &[Track], p: DVec3, reach: f64) -> Vec<RoundCone> {
-        let lo = ((p - DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
-        let hi = ((p + DVec3::splat(reach)) / self.cell).floor().as_i64vec3();
+        let lo = ((p - DVec3::splat(reach)) / self.cell).floor();
+        let hi = ((p + DVec3::splat(reach)) / self.cell).floor();
+        // Counted in f64: a reach far beyond the grid saturates i64 cells.
+        let n = hi - lo + 1.0;
+        let (lo, hi) = (lo.as_i64vec3(), hi.as_i64vec3());
         let mut seen: crate::kernel::hash::FastSet<(u32, u32)> =
             crate::kernel::hash::FastSet::default();
         let mut out = Vec::new();
@@ -354,7 +399,6 @@ impl ConeIndex {
         for &(b, i) in &self.large {
             consider(b, i, &mut out);
         }
-        let n = (hi - lo + 1).as_dvec3();
         if n.x * n.y * n.z <= (self.grid.len() as f64).max(64.0) {
             for x in lo.x..=hi.x {
                 for y in lo.y..=hi.y {

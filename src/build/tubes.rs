@@ -11,6 +11,7 @@
 
 use glam::DVec3;
 
+use super::coverage::Skipped;
 use super::plan::{SomaPlan, Starts};
 use super::splice::Join;
 use super::surface::Surface;
@@ -42,9 +43,8 @@ pub struct Tubes {
     /// Counts so far.
     pub stats: BuildStats,
     /// The original segments whose contours no piece took and that reach
-    /// out of what the pieces hold: branch, segment (index of its first
-    /// point) and the volume left out, estimated ([`super::filler`]).
-    pub segments: Vec<(u32, (u32, f64))>,
+    /// out of what the pieces hold, with their branch ([`super::filler`]).
+    pub segments: Vec<(u32, Skipped)>,
 }
 
 /// Stage 3 on `skeleton`, starting each branch where `starts` says.

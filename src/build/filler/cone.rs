@@ -73,6 +73,14 @@ pub fn straight_track(
 /// filler adds.
 pub const SEGMENT_SHRINK: f64 = 0.95;
 
+/// The cone of a segment filler built only because a sample would otherwise lie
+/// outside the mesh is drawn in further, to this fraction of the skeleton's
+/// radii: such a segment is mostly held by its tube (which cuts the corner
+/// at the sample), and a filler surface close to the tube's meets it in
+/// grazing contacts the overlap pass fails to cut, which costs the cell a
+/// second construction. Its end dome still holds the sample at its centre.
+pub const SAMPLE_SHRINK: f64 = 0.8;
+
 /// A segment filler that follows another in a run of them starts flat, its
 /// first contour drawn in to this fraction of the segment's radius inside
 /// the dome the one before ends with. Domed too, the two would draw the
@@ -80,18 +88,20 @@ pub const SEGMENT_SHRINK: f64 = 0.95;
 pub const SEGMENT_TUCK: f64 = 0.9;
 
 /// The straight track of a segment filler (see [`Straight`]): the round cone
-/// `ends` with `radii`, drawn in ([`SEGMENT_SHRINK`]), and tucked at its
-/// start when it starts flat ([`SEGMENT_TUCK`]).
+/// `ends` with `radii`, drawn in to `shrink` of them ([`SEGMENT_SHRINK`] or
+/// [`SAMPLE_SHRINK`]), and tucked at its start when it starts flat
+/// ([`SEGMENT_TUCK`]).
 pub fn segment_track(
     ends: (DVec3, DVec3),
     radii: [f64; 2],
     edge: f64,
     params: &Params,
     flat_start: bool,
+    shrink: f64,
 ) -> Option<Track> {
     let mut track = straight_track(ends.0, ends.1, radii, edge, params)?;
     for r in &mut track.radii {
-        *r *= SEGMENT_SHRINK;
+        *r *= shrink;
     }
     if flat_start {
         track.radii[0] *= SEGMENT_TUCK;

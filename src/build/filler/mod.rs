@@ -34,11 +34,19 @@
 //! are its only cover. Each original segment whose left-out contours reach
 //! out of what the pieces hold gets a *segment filler*: its own round cone,
 //! straight ([`cone::Straight`], [`cone::segment_track`]), domed at both
-//! ends. A filler along the track would skip the same contours. Trunks get
+//! ends. A filler along the track would skip the same contours.
+//!
+//! A segment whose original sample the pieces may leave outside (it lies
+//! less than [`crate::build::coverage::SAMPLE_DEPTH`] of its radius inside
+//! the round cones that replace its skipped contours) gets its segment filler whatever volume it adds: the
+//! surface must hold every skeleton sample. Such a *sample filler* is built
+//! at [`cone::SAMPLE_SHRINK`] of the radius, which still holds the sample
+//! with room and crosses less of the rest, and is left out of the gain
+//! sums. Trunks get
 //! their start filler from [`crate::build::plan`]: their first round cone,
 //! straight.
 //!
-//! Only fillers estimated to add [`gain::MIN_GAIN`] of the cell's volume are
+//! Sample fillers aside, only fillers estimated to add [`gain::MIN_GAIN`] of the cell's volume are
 //! built, and only when together they add [`gain::MIN_TOTAL_GAIN`]: each
 //! costs a couple
 //! of hundred crossing pairs. Branch points on the soma

@@ -2,9 +2,9 @@
 //! volume, and only when together they add enough to pay for the crossings
 //! they bring to the overlap pass.
 
-use super::cone::{Straight, segment_track};
+use super::cone::{SAMPLE_SHRINK, SEGMENT_SHRINK, Straight, segment_track};
 use super::gain::{MIN_GAIN, MIN_TOTAL_GAIN};
-use crate::build::coverage::slices;
+use crate::build::coverage::{Skipped, slices};
 use crate::build::plan::Starts;
 use crate::params::Params;
 use crate::skeleton::Skeleton;
@@ -41,13 +41,15 @@ pub struct FillerPlan {
 
 /// The fillers of `skeleton` whose estimated gain is at least `min_gain` of
 /// the cell's volume: the start fillers `starts` planned and the segment
-/// fillers of the skipped `segments` (branch, segment, gain) the tubes left;
-/// none unless those of at least [`MIN_GAIN`] add [`MIN_TOTAL_GAIN`] together.
-/// Takes the skeleton's tracks, keeping those the fillers run along.
+/// fillers of the skipped `segments` (with their branch) the tubes left;
+/// none unless those of at least [`MIN_GAIN`] add [`MIN_TOTAL_GAIN`]
+/// together. Whatever their gain, the segment fillers without which a
+/// sample would lie outside the mesh. Takes the skeleton's tracks, keeping
+/// those the fillers run along.
 pub fn select(
     skeleton: &mut Skeleton,
     starts: &mut Starts,
-    segments: Vec<(u32, (u32, f64))>,
+    segments: Vec<(u32, Skipped)>,
     params: &Params,
     min_gain: f64,
 ) -> FillerPlan {
@@ -63,9 +65,10 @@ pub fn select(
         .sum();
     let worth = |gain: f64| plausible && gain >= min_gain * cell;
     let substantial = |gain: f64| gain >= MIN_GAIN * cell;
-    let segments: Vec<(u32, (u32, f64))> = segments
+    let required = |s: &Skipped| plausible && s.holds_sample;
+    let segments: Vec<(u32, Skipped)> = segments
         .into_iter()
-        .filter(|&(_, (_, gain))| worth(gain))
+        .filter(|(_, s)| worth(s.gain) || required(s))
         .collect();
     // Each branch's start filler (along the straight track for a trunk that
     // has one), then those of the segments whose contours no piece took.
@@ -87,11 +90,15 @@ pub fn select(
         })
         .filter(|(_, gain)| worth(*gain))
         .collect();
+    // The fillers a sample needs neither count toward the share nor
+    // depend on it.
     let gains = || {
-        start_fillers
-            .iter()
-            .map(|c| c.1)
-            .chain(segments.iter().map(|s| s.1.1))
+        start_fillers.iter().map(|c| c.1).chain(
+            segments
+                .iter()
+                .filter(|s| !required(&s.1))
+                .map(|s| s.1.gain),
+        )
     };
     // Together they must change the volume by a visible share: each costs
     // crossing pairs, and a cell they would change by half a percent meshes
@@ -100,17 +107,21 @@ pub fn select(
     // are, never alone. The segments' tracks are built only then.
     let built = gains().filter(|&g| substantial(g)).sum::<f64>() >= MIN_TOTAL_GAIN * cell;
     let fine = built && gains().any(|g| !substantial(g));
-    let fillers: Vec<Filler> = if built {
-        let segment_fillers = (0..segments.len())
-            .filter_map(|i| segment_filler(skeleton, &tracks, &segments, i, params));
-        start_fillers
-            .into_iter()
-            .map(|(f, _)| f)
-            .chain(segment_fillers)
-            .collect()
+    // The fillers a sample needs are built whatever the others' share; the
+    // others only when it is reached.
+    let (start_fillers, segments) = if built {
+        (start_fillers, segments)
     } else {
-        Vec::new()
+        let needed = segments.into_iter().filter(|s| required(&s.1)).collect();
+        (Vec::new(), needed)
     };
+    let segment_fillers =
+        (0..segments.len()).filter_map(|i| segment_filler(skeleton, &tracks, &segments, i, params));
+    let fillers: Vec<Filler> = start_fillers
+        .into_iter()
+        .map(|(f, _)| f)
+        .chain(segment_fillers)
+        .collect();
     let mut needed = vec![false; tracks.len()];
     for f in &fillers {
         needed[f.branch as usize] |= f.straight.is_none();
@@ -127,25 +138,40 @@ pub fn select(
     }
 }
 
+/// A segment whose skipped contours leave out less than this share of its
+/// round cone's volume is held by its tube but for a corner.
+const HELD: f64 = 0.5;
+
 /// The filler of skipped segment `segments[i]`: its own round cone, straight,
-/// starting flat where the segment before has a filler that ends in a dome
-/// around its start.
+/// drawn in ([`SEGMENT_SHRINK`], [`SAMPLE_SHRINK`]), starting flat where the
+/// segment before has a filler that ends in a dome around its start.
 fn segment_filler(
     skeleton: &Skeleton,
     tracks: &[Track],
-    segments: &[(u32, (u32, f64))],
+    segments: &[(u32, Skipped)],
     i: usize,
     params: &Params,
 ) -> Option<Filler> {
-    let (b, (s, _)) = segments[i];
+    let (b, s) = (segments[i].0, segments[i].1.segment);
     let geometry = &skeleton.geometry;
     let points = &skeleton.branches[b as usize].samples;
     let (p, q) = (points[s as usize] as usize, points[s as usize + 1] as usize);
     let radii = [geometry.radius[p], geometry.radius[q]];
     let edge = tracks[b as usize].edge;
-    let flat_start = i > 0 && segments[i - 1].0 == b && segments[i - 1].1.0 + 1 == s;
+    let flat_start = i > 0 && segments[i - 1].0 == b && segments[i - 1].1.segment + 1 == s;
     let ends = (geometry.pos[p], geometry.pos[q]);
-    let track = segment_track(ends, radii, edge, params, flat_start)?;
+    // Drawn in further where a sample asks for the filler and the tube holds
+    // most of the segment; where the tube misses most of it, the filler is
+    // the segment's surface and keeps nearly its radius.
+    let cone =
+        std::f64::consts::PI * (0.5 * (radii[0] + radii[1])).powi(2) * ends.0.distance(ends.1);
+    let skipped = segments[i].1;
+    let shrink = if skipped.holds_sample && skipped.gain < HELD * cone {
+        SAMPLE_SHRINK
+    } else {
+        SEGMENT_SHRINK
+    };
+    let track = segment_track(ends, radii, edge, params, flat_start, shrink)?;
     let n = track.samples.len();
     Some(Filler {
         branch: b,

@@ -18,6 +18,7 @@ use std::ops::Range;
 use glam::DVec3;
 
 use super::guard::{Guard, Part};
+use crate::build::coverage::Skipped;
 use crate::build::surface::Surface;
 use crate::build::tube::{self, Ring, Tube};
 use crate::skeleton::track::{Track, may_follow};
@@ -48,7 +49,7 @@ pub struct Pieces {
     /// no piece took reach out of what the pieces hold, with the volume left
     /// out, estimated: each gets a filler of its own round cone
     /// ([`crate::build::filler`]).
-    pub segments: Vec<(u32, f64)>,
+    pub segments: Vec<Skipped>,
 }
 
 /// Builds the tube of one branch into `surface`, starting at track point
@@ -126,11 +127,11 @@ pub fn build_pieces(
             None => break,
         }
     }
-    out.segments.sort_by_key(|s| s.0);
+    out.segments.sort_by_key(|s| s.segment);
     out.segments.dedup_by(|b, a| {
-        let same = a.0 == b.0;
+        let same = a.segment == b.segment;
         if same {
-            a.1 += b.1;
+            *a = a.merged(*b);
         }
         same
     });
@@ -152,7 +153,7 @@ fn spliced_start(
     last: &Ring,
     end_rings: u32,
     next: usize,
-    segments: &mut Vec<(u32, f64)>,
+    segments: &mut Vec<Skipped>,
 ) -> Option<usize> {
     let n = track.samples.len();
     let mut volume = crate::build::coverage::cones(track, piece_start, last.resampled as usize);
