@@ -176,33 +176,52 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
-/// Where each input's mesh goes in `out_dir`: its file stem with extension
-/// `ext`.
+/// Where each input's mesh goes in `out_dir`: its whole file name less a
+/// final `.swc` (any case), with extension `ext`, so that
+/// `H17.03.013.11.08.04.swc` gives `H17.03.013.11.08.04.ply`.
 ///
-/// # Errors
-/// [`Error::InvalidParam`] when two inputs would write the same file (say
-/// `a/cell.swc` and `b/cell.swc`), before anything is written.
-pub fn output_paths(inputs: &[PathBuf], out_dir: &Path, ext: &str) -> Result<Vec<PathBuf>> {
+/// An input whose output another input earlier in the list already takes
+/// (say `a/cell.swc` and `b/cell.swc`) gets an error naming both instead of a
+/// path: a batch meshes the others and reports it, and never overwrites one
+/// mesh with another.
+pub fn output_paths(inputs: &[PathBuf], out_dir: &Path, ext: &str) -> Vec<Result<PathBuf>> {
     let mut first: std::collections::HashMap<PathBuf, &Path> = std::collections::HashMap::new();
     inputs
         .iter()
         .map(|input| {
-            let stem = input.file_stem().unwrap_or(input.as_os_str());
-            let out = out_dir.join(stem).with_extension(ext);
-            if let Some(other) = first.insert(out.clone(), input) {
+            let out = out_dir.join(output_name(input, ext));
+            if let Some(other) = first.get(&out) {
                 return Err(Error::InvalidParam {
                     name: "inputs",
                     reason: format!(
-                        "{} and {} would both be written to {}",
-                        other.display(),
+                        "{} is not meshed: its output {} is already that of {}",
                         input.display(),
-                        out.display()
+                        out.display(),
+                        other.display(),
                     ),
                 });
             }
+            first.insert(out.clone(), input);
             Ok(out)
         })
         .collect()
+}
+
+/// `input`'s file name less a final `.swc` (any case), plus `.ext`.
+fn output_name(input: &Path, ext: &str) -> std::ffi::OsString {
+    let name = input.file_name().unwrap_or(input.as_os_str());
+    let stem = name
+        .to_str()
+        .and_then(|n| {
+            let cut = n.len().checked_sub(4)?;
+            (n.is_char_boundary(cut) && n[cut..].eq_ignore_ascii_case(".swc")).then(|| &n[..cut])
+        })
+        .filter(|stem| !stem.is_empty())
+        .map_or_else(|| name.to_os_string(), std::ffi::OsString::from);
+    let mut out = stem;
+    out.push(".");
+    out.push(ext);
+    out
 }
 
 fn no_files(arg: &Path, why: &str) -> Error {
@@ -264,12 +283,25 @@ mod tests {
     }
 
     #[test]
-    fn outputs_that_collide_are_refused_before_writing() {
-        let inputs = [PathBuf::from("a/cell.swc"), PathBuf::from("b/cell.SWC")];
-        let err = output_paths(&inputs, Path::new("out"), "ply").unwrap_err();
-        assert!(err.to_string().contains("a/cell.swc"), "{err}");
-        let ok = output_paths(&inputs[..1], Path::new("out"), "ply").unwrap();
-        assert_eq!(ok, [PathBuf::from("out/cell.ply")]);
+    fn outputs_keep_dotted_names_and_collisions_fail_alone() {
+        let inputs = [
+            PathBuf::from("a/cell.swc"),
+            PathBuf::from("H17.03.013.11.08.04.swc"),
+            PathBuf::from("H17.03.013.11.08.05.SWC"),
+            PathBuf::from("b/cell.SWC"),
+            PathBuf::from("notes.txt"),
+        ];
+        let out = output_paths(&inputs, Path::new("out"), "ply");
+        let ok = |i: usize| out[i].as_ref().unwrap().clone();
+        assert_eq!(ok(0), PathBuf::from("out/cell.ply"));
+        assert_eq!(ok(1), PathBuf::from("out/H17.03.013.11.08.04.ply"));
+        assert_eq!(ok(2), PathBuf::from("out/H17.03.013.11.08.05.ply"));
+        assert_eq!(ok(4), PathBuf::from("out/notes.txt.ply"));
+        let err = out[3].as_ref().unwrap_err().to_string();
+        assert!(
+            err.contains("b/cell.SWC") && err.contains("a/cell.swc"),
+            "{err}"
+        );
     }
 
     #[test]

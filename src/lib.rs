@@ -73,10 +73,11 @@ pub use measure::summary::Summary;
 pub use measure::union::UnionMeasures;
 pub use mesh::{BuildStats, Mesh, MeshView, frame_origin};
 pub use params::{
-    DEFAULT_ANGLE_THRESHOLD, DEFAULT_CAP_RINGS, DEFAULT_K1, DEFAULT_MAX_VERTICES,
-    DEFAULT_MIN_RADIUS, DEFAULT_MIN_VERTICES, DEFAULT_RESOLUTION, DEFAULT_SCALE, PARAM_NAMES,
-    Params,
+    DEFAULT_ANGLE_THRESHOLD, DEFAULT_CAP_RINGS, DEFAULT_FACE_LIMIT, DEFAULT_K1,
+    DEFAULT_MAX_VERTICES, DEFAULT_MIN_RADIUS, DEFAULT_MIN_VERTICES, DEFAULT_RESOLUTION,
+    DEFAULT_SCALE, PARAM_NAMES, Params,
 };
+pub use pipeline::budget::{Estimate, estimate};
 pub use pipeline::{mesh_morphology, mesh_swc};
 
 #[cfg(feature = "internals")]

@@ -70,6 +70,16 @@ macro_rules! with_params {
             /// For example 0.001 turns nanometres into micrometres, 0.008
             /// turns 8 nm voxels into micrometres.
             scale: f64 = 1.0 => DEFAULT_SCALE, with_scale;
+
+            /// Most triangles a mesh may be estimated to need (0 = no limit).
+            ///
+            /// Before building, the mesher counts the triangles formulas (1)
+            /// and (3) ask for; a cell that passes this is refused with the
+            /// line of the segment that asks for most (radii in the wrong
+            /// unit, an outlying coordinate) instead of running for minutes
+            /// and exhausting memory. The estimate is of the mesh before
+            /// straight stretches are thinned: 100 M is about 4 GB of work.
+            face_limit: u32 = 100_000_000 => DEFAULT_FACE_LIMIT, with_face_limit;
         }
     };
 }

@@ -352,3 +352,41 @@ fn batch_goes_past_a_bad_file_and_output_does_not_depend_on_threads() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn batch_keeps_dotted_names_and_meshes_past_a_name_collision() {
+    let (a, b) = (tmp("batch-dots-a"), tmp("batch-dots-b"));
+    for dir in [&a, &b] {
+        std::fs::create_dir_all(dir).unwrap();
+    }
+    for name in [
+        "H17.03.013.11.08.04.swc",
+        "H17.03.013.11.08.05.swc",
+        "y.swc",
+    ] {
+        std::fs::copy("tests/data/y_bifurcation.swc", a.join(name)).unwrap();
+    }
+    std::fs::copy("tests/data/y_bifurcation.swc", b.join("y.SWC")).unwrap();
+    let out_dir = tmp("batch-dots-out");
+    let out = neuromesh(&[
+        "batch",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(stdout.contains("4 (3 meshed, 1 failed)"), "{stdout}");
+    assert!(
+        stderr.contains("y.SWC is not meshed") && stderr.contains("already that of"),
+        "{stderr}"
+    );
+    for name in [
+        "H17.03.013.11.08.04.ply",
+        "H17.03.013.11.08.05.ply",
+        "y.ply",
+    ] {
+        assert!(out_dir.join(name).exists(), "{name}");
+    }
+}

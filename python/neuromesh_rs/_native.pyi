@@ -110,6 +110,7 @@ class Morphology:
         resolution: float = 1.0,
         min_radius: float = 0.0,
         scale: float = 1.0,
+        face_limit: int = 100_000_000,
         # params:end
     ) -> Mesh:
         """Meshes the morphology into a ``neuromesh_rs.Mesh``."""
@@ -127,6 +128,7 @@ def mesh_swc(
     resolution: float = 1.0,
     min_radius: float = 0.0,
     scale: float = 1.0,
+    face_limit: int = 100_000_000,
     # params:end
 ) -> Mesh:
     """Reads an SWC file and meshes it into a ``neuromesh_rs.Mesh``."""
@@ -145,6 +147,7 @@ def mesh_many(
     resolution: float = 1.0,
     min_radius: float = 0.0,
     scale: float = 1.0,
+    face_limit: int = 100_000_000,
     # params:end
 ) -> list[Mesh | Exception]:
     """Meshes many SWC files in parallel, detached from the interpreter; the

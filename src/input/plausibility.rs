@@ -45,13 +45,21 @@ fn radius_warning(m: &Morphology) -> Option<String> {
     let mut why = Vec::new();
     if radius > RADIUS_PER_SEGMENT * length {
         why.push(format!(
-            "the median neurite radius {radius:.4} is {:.0} times the median segment length {length:.4}",
-            radius / length
+            "the median neurite radius {} is {} times the median segment length {}",
+            shown(radius),
+            if radius / length < 1e7 {
+                format!("{:.0}", radius / length)
+            } else {
+                format!("{:.3e}", radius / length)
+            },
+            shown(length)
         ));
     }
     if diagonal > 0.0 && largest > diagonal {
         why.push(format!(
-            "the largest neurite radius {largest:.4} exceeds the bounding box's diagonal {diagonal:.4}"
+            "the largest neurite radius {} exceeds the bounding box's diagonal {}",
+            shown(largest),
+            shown(diagonal)
         ));
     }
     (!why.is_empty()).then(|| {
@@ -61,6 +69,17 @@ fn radius_warning(m: &Morphology) -> Option<String> {
             why.join(", and ")
         )
     })
+}
+
+/// A number as a message shows it: four decimals, or in scientific notation
+/// where it is very large or very small (a radius of 1e300 is not printed in
+/// 300 digits).
+fn shown(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e7).contains(&x.abs()) {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.3e}")
+    }
 }
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -5,14 +5,16 @@
 //! and strict about everything that does:
 //!
 //! * tolerated: `#` comment lines anywhere (with any bytes in them), trailing `#`
-//!   comments, CRLF and CR line ends, tabs, commas or runs of spaces as
+//!   comments, a byte-order mark at the start of any line (files concatenated
+//!   from several carry one per part), CRLF and CR line ends, tabs, commas or runs of spaces as
 //!   separators, extra columns, ids written as `12.0`, any type code, any
 //!   negative parent as "root", ids in any order and parents listed after their
 //!   children;
 //! * rejected with the 1-based line and a reason: fewer than seven fields, a field
 //!   that is not a number, NaN or infinity, a fractional id, type or parent, a
-//!   duplicate id (naming the first line too), a NUL byte (binary file) and a file
-//!   without a single sample.
+//!   duplicate id (naming the first line too), an id beyond the integers an f64
+//!   holds exactly (2^53), bytes no text holds (a binary file) and a file
+//!   without a single sample. Quoted fields are cut to a few dozen characters.
 //!
 //! Tree-level problems (a parent that does not exist, a cycle) need the whole
 //! file and are reported by [`crate::Morphology`], also with a line number.
@@ -73,8 +75,21 @@ impl SwcFile {
         let mut samples = Vec::with_capacity(bytes.len() / 40);
         let mut comment_lines = 0usize;
         let mut line_no = 0usize;
-        for raw_line in bytes.split(|&b| b == b'\n') {
+        // The last line that holds anything: where "no samples" points.
+        let mut last_line = 0usize;
+        // Lines end with LF (CRLF leaves a CR that counts as white space),
+        // or, in old Mac files, with CR alone. A final line end does not
+        // start another line.
+        let end = if bytes.contains(&b'\n') { b'\n' } else { b'\r' };
+        let text = bytes.strip_suffix(&[end]).unwrap_or(bytes);
+        for raw_line in text.split(|&b| b == end) {
             line_no += 1;
+            // A byte-order mark can start the file and, in files
+            // concatenated from several, any line.
+            let raw_line = raw_line.strip_prefix(BOM).unwrap_or(raw_line);
+            if !raw_line.iter().all(|b| b.is_ascii_whitespace()) {
+                last_line = line_no;
+            }
             if raw_line.contains(&0) {
                 return Err(Error::swc(
                     name,
@@ -97,13 +112,26 @@ impl SwcFile {
                 }
                 continue;
             }
+            if let Some(b) = binary_byte(data) {
+                return Err(Error::swc(
+                    name,
+                    line_no,
+                    format!(
+                        "byte 0x{b:02X} is not text: this looks like a binary file, not SWC text"
+                    ),
+                ));
+            }
             samples.push(parse_line(data, name, line_no)?);
         }
         if samples.is_empty() {
             return Err(Error::swc(
                 name,
-                line_no.max(1),
-                "no samples: the file is empty or has only comments",
+                last_line.max(1),
+                if last_line == 0 {
+                    "no samples: the file is empty"
+                } else {
+                    "no samples: the file has only comments and blank lines"
+                },
             ));
         }
         check_unique_ids(&samples, name)?;
@@ -114,6 +142,44 @@ impl SwcFile {
         })
     }
 }
+
+/// The UTF-8 byte-order mark.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Fields quoted in messages are cut to this many characters: a line of
+/// megabytes must not become a message of megabytes.
+const QUOTED: usize = 40;
+
+/// The first byte that no text holds in the data part of a line (comments
+/// may hold anything and are not checked): a control character other than
+/// whitespace, or a byte that is not UTF-8. Text that merely is not a
+/// number is left to the field's own message.
+fn binary_byte(data: &[u8]) -> Option<u8> {
+    if let Some(&b) = data
+        .iter()
+        .find(|&&b| (b < 0x20 && !b.is_ascii_whitespace()) || b == 0x7F)
+    {
+        return Some(b);
+    }
+    std::str::from_utf8(data)
+        .err()
+        .map(|e| data[e.valid_up_to()])
+}
+
+/// A field as quoted in a message, cut to [`QUOTED`] characters.
+fn quoted(field: &[u8]) -> String {
+    let text = String::from_utf8_lossy(field);
+    if text.chars().count() <= QUOTED {
+        text.into_owned()
+    } else {
+        let cut: String = text.chars().take(QUOTED).collect();
+        format!("{cut}… ({} bytes)", field.len())
+    }
+}
+
+/// The largest integer that an f64 (every number in an SWC file is read as
+/// one) holds exactly: 2^53.
+const EXACT_INTEGERS: f64 = 9_007_199_254_740_992.0;
 
 fn parse_line(data: &[u8], name: &str, line: usize) -> Result<RawSample> {
     let mut fields: [&[u8]; 7] = [&[]; 7];
@@ -141,35 +207,38 @@ fn parse_line(data: &[u8], name: &str, line: usize) -> Result<RawSample> {
             Error::swc(
                 name,
                 line,
-                format!(
-                    "{} is not a number: `{}`",
-                    NAMES[i],
-                    String::from_utf8_lossy(field)
-                ),
+                format!("{} is not a number: `{}`", NAMES[i], quoted(field)),
             )
         })?;
         if !values[i].is_finite() {
             return Err(Error::swc(
                 name,
                 line,
-                format!(
-                    "{} must be finite, found `{}`",
-                    NAMES[i],
-                    String::from_utf8_lossy(field)
-                ),
+                format!("{} must be finite, found `{}`", NAMES[i], quoted(field)),
             ));
         }
     }
     let integer = |i: usize| -> Result<i64> {
         let v = values[i];
-        if v.fract() != 0.0 || v.abs() > 9.0e15 {
+        if v.abs() >= EXACT_INTEGERS {
+            return Err(Error::swc(
+                name,
+                line,
+                format!(
+                    "{} `{}` is beyond the integers a 64-bit float holds exactly (±2^53)",
+                    NAMES[i],
+                    quoted(fields[i])
+                ),
+            ));
+        }
+        if v.fract() != 0.0 {
             return Err(Error::swc(
                 name,
                 line,
                 format!(
                     "{} must be an integer, found `{}`",
                     NAMES[i],
-                    String::from_utf8_lossy(fields[i])
+                    quoted(fields[i])
                 ),
             ));
         }
@@ -383,8 +452,53 @@ mod tests {
         let (line, reason) = err_line("");
         assert_eq!(line, 1);
         assert!(reason.contains("no samples"));
-        let (line, _) = err_line("# a\n# b\n\n");
-        assert_eq!(line, 4);
+        // The last line that holds something, not the end of the file.
+        let (line, reason) = err_line("# a\n# b\n\n");
+        assert_eq!(line, 2);
+        assert!(reason.contains("only comments"), "{reason}");
+    }
+
+    #[test]
+    fn byte_order_marks_before_comments_and_samples() {
+        let f = parse("\u{feff}# header\n1 1 0 0 0 5 -1\n\u{feff}2 3 1 0 0 1 1\n").unwrap();
+        assert_eq!(f.samples.len(), 2);
+        assert_eq!(f.comment_lines, 1);
+        assert_eq!(f.samples[1].line, 3);
+    }
+
+    #[test]
+    fn cr_only_line_ends() {
+        let f = parse("# old Mac\r1 1 0 0 0 5 -1\r2 3 1 0 0 1 1\r").unwrap();
+        assert_eq!(f.samples.len(), 2);
+        assert_eq!(f.samples[1].line, 3);
+    }
+
+    #[test]
+    fn an_image_renamed_swc_is_called_binary() {
+        let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR";
+        match SwcFile::parse(png, "cell.swc") {
+            Err(Error::Swc(e)) => {
+                assert_eq!(e.line, 1);
+                assert!(e.reason.contains("binary"), "{}", e.reason);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn long_fields_are_cut_in_messages() {
+        let long = "x".repeat(100_000);
+        let (_, reason) = err_line(&format!("1 1 {long} 0 0 1 -1\n"));
+        assert!(reason.len() < 120, "{} bytes", reason.len());
+        assert!(reason.contains("100000 bytes"), "{reason}");
+    }
+
+    #[test]
+    fn ids_beyond_exact_integers_say_so() {
+        let (_, reason) = err_line("1e16 1 0 0 0 1 -1\n");
+        assert!(reason.contains("2^53"), "{reason}");
+        let f = parse("9007199254740991 1 0 0 0 1 -1\n").unwrap();
+        assert_eq!(f.samples[0].id, 9_007_199_254_740_991);
     }
 
     #[test]
@@ -400,11 +514,18 @@ mod tests {
     }
 
     #[test]
-    fn non_utf8_in_data_is_not_a_number() {
+    fn non_utf8_in_data_is_binary() {
         let bytes = b"1 1 0 0 0 1 -1\n2 3 \xff\xfe 0 0 1 1\n";
         match SwcFile::parse(bytes, "b.swc") {
-            Err(Error::Swc(e)) => assert_eq!(e.line, 2),
+            Err(Error::Swc(e)) => {
+                assert_eq!(e.line, 2);
+                assert!(e.reason.contains("0xFF"), "{}", e.reason);
+            }
             other => panic!("{other:?}"),
         }
+        // UTF-8 that is not a number gets the field's own message.
+        let (line, reason) = err_line("1 1 0 0 0 1 -1\n2 3 1\u{2212}2 0 0 1 1\n");
+        assert_eq!(line, 2);
+        assert!(reason.contains("x is not a number"), "{reason}");
     }
 }

@@ -4,7 +4,8 @@
 //! run in order on the calling thread. Every helper keeps input order in its
 //! output, so results never depend on the number of threads.
 
-/// Runs `f` on a pool of `threads` threads (all cores when `None`), so a call
+/// Runs `f` on a pool of `threads` threads (all cores when `None`, never
+/// more than the cores: [`thread_count`]), so a call
 /// from Python or the CLI can bound its parallelism without touching the global
 /// pool.
 ///
@@ -14,17 +15,16 @@ pub fn with_threads<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> T + Send,
 ) -> crate::Result<T> {
-    thread_count(threads)?;
+    let n = thread_count(threads)?;
     #[cfg(feature = "parallel")]
     {
-        let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = threads {
-            builder = builder.num_threads(n);
-        }
-        let pool = builder.build().map_err(|e| crate::Error::InvalidParam {
-            name: "threads",
-            reason: format!("cannot start a thread pool: {e}"),
-        })?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| crate::Error::InvalidParam {
+                name: "threads",
+                reason: format!("cannot start a thread pool: {e}"),
+            })?;
         Ok(pool.install(f))
     }
     #[cfg(not(feature = "parallel"))]
@@ -33,18 +33,22 @@ pub fn with_threads<T: Send>(
     }
 }
 
-/// The number of threads `threads` asks for: itself, or all cores for `None`.
+/// The number of threads `threads` asks for, at most the machine's cores
+/// (all of them for `None`): more threads than cores mesh no faster, and a
+/// request of thousands (a typo, or a pool per file) would start thousands
+/// of threads.
 ///
 /// # Errors
 /// [`crate::Error::InvalidParam`] for `Some(0)`.
 pub fn thread_count(threads: Option<usize>) -> crate::Result<usize> {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
     match threads {
         Some(0) => Err(crate::Error::InvalidParam {
             name: "threads",
             reason: "must be at least 1".to_owned(),
         }),
-        Some(n) => Ok(n),
-        None => Ok(std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)),
+        Some(n) => Ok(n.min(cores)),
+        None => Ok(cores),
     }
 }
 
@@ -92,5 +96,17 @@ mod tests {
         let serial: Vec<usize> = (0..100).flat_map(|i| vec![i; i % 3]).collect();
         assert_eq!(fm, serial);
         assert!(with_threads(Some(0), || ()).is_err());
+    }
+
+    #[test]
+    fn thread_requests_are_capped_at_the_cores() {
+        let cores = thread_count(None).unwrap();
+        assert_eq!(thread_count(Some(10_000)).unwrap(), cores);
+        assert_eq!(thread_count(Some(1)).unwrap(), 1);
+        #[cfg(feature = "parallel")]
+        assert_eq!(
+            with_threads(Some(10_000), rayon::current_num_threads).unwrap(),
+            cores
+        );
     }
 }

@@ -6,6 +6,7 @@
 //! constructed again at a safer reach or without the fillers the pass
 //! could not unite where it leaves crossings ([`retry`]).
 
+pub mod budget;
 mod retry;
 mod shells;
 
@@ -38,9 +39,12 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// Meshes a morphology with `params`.
 ///
 /// # Errors
-/// [`crate::Error::InvalidParam`] for a bad parameter.
+/// [`crate::Error::InvalidParam`] for a bad parameter, [`crate::Error::Swc`]
+/// for a cell estimated to need more than `params.face_limit` triangles
+/// ([`budget`]).
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
     params.validate()?;
+    budget::check(morphology, params)?;
     // A union of round cones that is one star-shaped blob (radius codes
     // swelling every sphere past the cell) is meshed whole ([`crate::build::star_hull`]).
     let origin = frame_origin_of(morphology, params.scale);

@@ -28,13 +28,16 @@ pub fn run(
         reason: format!("unknown format {format:?} (obj, ply or stl)"),
     })?;
     let files = batch::expand_inputs(inputs)?;
-    let outputs = batch::output_paths(&files, out_dir, format.extension())?;
+    // An input whose output name another took keeps the reason, and fails
+    // alone when its turn comes.
+    let outputs: Vec<Result<PathBuf, String>> =
+        batch::output_paths(&files, out_dir, format.extension())
+            .into_iter()
+            .map(|o| o.map_err(|e| e.to_string()))
+            .collect();
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    let target: std::collections::HashMap<&Path, &Path> = files
-        .iter()
-        .map(PathBuf::as_path)
-        .zip(outputs.iter().map(PathBuf::as_path))
-        .collect();
+    let target: std::collections::HashMap<&Path, &Result<PathBuf, String>> =
+        files.iter().map(PathBuf::as_path).zip(&outputs).collect();
 
     let bar =
         (!quiet && std::io::stderr().is_terminal()).then(|| Mutex::new(Bar::new(files.len())));
@@ -43,20 +46,32 @@ pub fn run(
         &files,
         jobs,
         |input| {
+            let output = target[input]
+                .as_ref()
+                .map_err(|reason| Error::InvalidParam {
+                    name: "inputs",
+                    reason: reason.clone(),
+                })?;
             let mesh = neuromesh::mesh_swc(input, params)?;
-            io::write_as(target[input], &mesh, format)?;
+            io::write_as(output, &mesh, format)?;
             Ok(Written {
                 triangles: mesh.faces.len(),
             })
         },
         |done, outcome| {
-            if let Some(bar) = &bar {
-                let mut bar = bar
-                    .lock()
-                    .unwrap_or_else(std::sync::PoisonError::into_inner);
-                if outcome.result.is_err() {
+            // Errors are said as they happen: a batch stopped halfway has
+            // still told what failed.
+            let mut bar = bar
+                .as_ref()
+                .map(|b| b.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
+            if let Err(e) = &outcome.result {
+                if let Some(bar) = bar.as_mut() {
                     bar.failed += 1;
+                    bar.clear();
                 }
+                eprintln!("error: {e}");
+            }
+            if let Some(bar) = bar.as_mut() {
                 bar.draw(done, &outcome.input);
             }
         },
@@ -74,10 +89,7 @@ pub fn run(
         busy += o.seconds;
         match &o.result {
             Ok(w) => triangles += w.triangles,
-            Err(e) => {
-                failed += 1;
-                eprintln!("error: {e}");
-            }
+            Err(_) => failed += 1,
         }
     }
     let threads = batch::thread_count(jobs)?;

@@ -105,14 +105,12 @@ struct Kept {
 /// `cleaning`.
 fn merge_duplicates(samples: &[RawSample], parent: &[u32], cleaning: &mut Cleaning) -> Kept {
     let n = samples.len();
-    // The tolerance is relative to the skeleton's extent so it works in nm
-    // and in µm alike.
-    let extent = samples
-        .iter()
-        .flat_map(|s| s.pos)
-        .fold(0f64, |m, v| m.max(v.abs()))
-        .max(1e-30);
-    let eps = 1e-9 * extent;
+    // Two points are one where they differ by the noise of writing the same
+    // coordinates: a tolerance relative to their own magnitude works in nm
+    // and in µm alike, and one outlying coordinate elsewhere in the file
+    // cannot make it swallow whole branches.
+    let magnitude = |p: [f64; 3]| p.iter().fold(1e-30f64, |m, v| m.max(v.abs()));
+    let eps = |a: [f64; 3], b: [f64; 3]| 1e-9 * magnitude(a).max(magnitude(b));
     let mut merged_into: Vec<u32> = (0..n as u32).collect();
     let mut radius: Vec<f64> = samples.iter().map(|s| s.radius).collect();
     for s in samples {
@@ -130,9 +128,8 @@ fn merge_duplicates(samples: &[RawSample], parent: &[u32], cleaning: &mut Cleani
             continue;
         }
         let target = find(&mut merged_into, p);
-        if dist(samples[i].pos, samples[target as usize].pos) <= eps
-            && samples[i].kind == samples[target as usize].kind
-        {
+        let (a, b) = (samples[i].pos, samples[target as usize].pos);
+        if dist(a, b) <= eps(a, b) && samples[i].kind == samples[target as usize].kind {
             merged_into[i] = target;
             if radius[i].is_finite() && radius[i] > radius[target as usize] {
                 radius[target as usize] = radius[i];
