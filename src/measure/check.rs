@@ -33,6 +33,34 @@ impl Mesh {
         r
     }
 
+    /// What makes the mesh unsound as far as a check in linear time can
+    /// tell: open, non-manifold or inward edges and faces, degenerate or
+    /// duplicate faces, and the crossing pairs the overlap pass reported
+    /// left (the construction's own count; [`Mesh::check`] searches every
+    /// pair). Empty for a sound mesh. What `neuromesh mesh` and `batch`
+    /// check on every mesh they write.
+    pub fn quick_defects(&self) -> Vec<String> {
+        let r = self.view().check_topology();
+        let mut out = Vec::new();
+        let mut say = |n: usize, what: &str| {
+            if n > 0 {
+                out.push(format!("{n} {what}"));
+            }
+        };
+        say(r.boundary_edges, "boundary edges");
+        say(r.nonmanifold_edges, "non-manifold edges");
+        say(r.nonmanifold_vertices, "non-manifold vertices");
+        say(r.misoriented_edges, "misoriented edges");
+        say(r.inward_components, "inward components");
+        say(r.degenerate_faces, "degenerate faces");
+        say(r.duplicate_faces, "duplicate faces");
+        say(
+            self.stats.overlap_pairs_left as usize,
+            "crossing pairs of parts left by the overlap pass",
+        );
+        out
+    }
+
     /// Like [`Mesh::check`], and splits self-intersections into construction
     /// defects and skeleton overlaps using the vertices' sample labels.
     pub fn check_with(&self, morphology: &Morphology) -> MeshReport {
@@ -354,6 +382,20 @@ pub fn is_skeleton_overlap(
 mod tests {
     use super::*;
     use crate::mesh::tests::cube;
+
+    #[test]
+    fn quick_defects_name_what_is_wrong() {
+        let mut m = cube();
+        assert!(m.quick_defects().is_empty());
+        m.faces.pop();
+        assert_eq!(m.quick_defects(), ["3 boundary edges"]);
+        let mut m = cube();
+        m.stats.overlap_pairs_left = 7;
+        assert_eq!(
+            m.quick_defects(),
+            ["7 crossing pairs of parts left by the overlap pass"]
+        );
+    }
 
     #[test]
     fn closed_cube_is_valid() {

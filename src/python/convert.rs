@@ -50,7 +50,23 @@ fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
 }
 
 /// Wraps a core mesh into the pure-Python `neuromesh_rs.Mesh` class.
+///
+/// A mesh that is not sound ([`Mesh::quick_defects`]) comes with a
+/// `RuntimeWarning` that says why: Python users see what `neuromesh mesh`
+/// exits with 4 for.
 pub(super) fn python_mesh(py: Python<'_>, mesh: Mesh) -> PyResult<Bound<'_, PyAny>> {
+    let defects = py.detach(|| mesh.quick_defects());
+    if !defects.is_empty() {
+        let message =
+            std::ffi::CString::new(format!("the mesh is not sound: {}", defects.join(", ")))
+                .map_err(|e| MeshError::new_err(e.to_string()))?;
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyRuntimeWarning>(),
+            &message,
+            1,
+        )?;
+    }
     let parts = mesh_tuple(py, mesh)?;
     py.import("neuromesh_rs._mesh")?
         .getattr("Mesh")?

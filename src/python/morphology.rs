@@ -47,6 +47,31 @@ impl PyMorphology {
     }
 }
 
+/// The largest integer an f64 holds exactly (2^53 − 1): ids and parents
+/// arrive as f64, as the SWC reader reads them.
+const MAX_EXACT: f64 = 9_007_199_254_740_991.0;
+
+/// The column `name` as integers of magnitude at most `limit`, or a
+/// `ValueError` naming the first value that is not one and its index.
+fn integers(name: &str, values: &[f64], limit: f64) -> PyResult<Vec<i64>> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            if v.is_finite() && v.fract() == 0.0 && v.abs() <= limit {
+                Ok(v as i64)
+            } else {
+                let why = if !v.is_finite() || v.fract() != 0.0 {
+                    "is not an integer".to_owned()
+                } else {
+                    format!("is out of range (±{limit:.0})")
+                };
+                Err(PyValueError::new_err(format!("{name}[{i}] = {v} {why}")))
+            }
+        })
+        .collect()
+}
+
 fn read_only<'py, T, D>(a: Bound<'py, numpy::PyArray<T, D>>) -> Bound<'py, numpy::PyArray<T, D>>
 where
     T: numpy::Element,
@@ -185,14 +210,19 @@ with_params!(with_mesh_functions! {
     }
 
     /// Builds a morphology from columns; `parents` holds parent ids (negative for roots).
+    ///
+    /// Ids, types and parents may come as integers or floats, but must hold
+    /// integers (an id of 1.5 or a NaN parent raises ``ValueError`` naming
+    /// the argument and the index, as the SWC reader rejects them); types
+    /// must fit 32 bits.
     #[staticmethod]
     fn from_arrays(
         py: Python<'_>,
-        ids: PyArrayLike1<'_, i64, AllowTypeChange>,
-        types: PyArrayLike1<'_, i32, AllowTypeChange>,
+        ids: PyArrayLike1<'_, f64, AllowTypeChange>,
+        types: PyArrayLike1<'_, f64, AllowTypeChange>,
         xyz: PyArrayLike2<'_, f64, AllowTypeChange>,
         radii: PyArrayLike1<'_, f64, AllowTypeChange>,
-        parents: PyArrayLike1<'_, i64, AllowTypeChange>,
+        parents: PyArrayLike1<'_, f64, AllowTypeChange>,
     ) -> PyResult<Self> {
         if xyz.ndim() != 2 || xyz.shape()[1] != 3 {
             return Err(PyValueError::new_err(format!(
@@ -201,8 +231,11 @@ with_params!(with_mesh_functions! {
             )));
         }
         // Skeleton arrays are small: copy them so no numpy buffer is read while detached.
-        let ids = ids.as_array().to_vec();
-        let types = types.as_array().to_vec();
+        let ids = integers("ids", &ids.as_array().to_vec(), MAX_EXACT)?;
+        let types: Vec<i32> = integers("types", &types.as_array().to_vec(), f64::from(i32::MAX))?
+            .into_iter()
+            .map(|t| t as i32)
+            .collect();
         let xyz: Vec<[f64; 3]> = xyz
             .as_array()
             .rows()
@@ -210,7 +243,7 @@ with_params!(with_mesh_functions! {
             .map(|r| [r[0], r[1], r[2]])
             .collect();
         let radii = radii.as_array().to_vec();
-        let parents = parents.as_array().to_vec();
+        let parents = integers("parents", &parents.as_array().to_vec(), MAX_EXACT)?;
         let m = py
             .detach(|| Morphology::from_arrays(&ids, &types, &xyz, &radii, &parents))
             .map_err(to_py)?;
@@ -349,6 +382,36 @@ with_params!(with_mesh_functions! {
 
     fn __len__(&self) -> usize {
         self.inner.len()
+    }
+
+    /// Pickles as its columns, rebuilt by ``from_arrays`` (so it travels to
+    /// processes and Dask workers): the copy meshes identically; its name is
+    /// ``<arrays>`` and its cleaning counts start from the cleaned columns.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (
+            Bound<'py, PyArray1<i64>>,
+            Bound<'py, PyArray1<i32>>,
+            Bound<'py, PyArray2<f64>>,
+            Bound<'py, PyArray1<f64>>,
+            Bound<'py, PyArray1<i64>>,
+        ),
+    )> {
+        let rebuild = py.get_type::<PyMorphology>().getattr("from_arrays")?;
+        Ok((
+            rebuild,
+            (
+                self.ids(py),
+                self.types(py),
+                self.xyz(py),
+                self.radii(py),
+                self.parents(py),
+            ),
+        ))
     }
 
     fn __repr__(&self) -> String {

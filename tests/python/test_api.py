@@ -41,6 +41,7 @@ def test_defaults_are_the_documented_ones() -> None:
         "resolution": 1.0,
         "min_radius": 0.0,
         "scale": 1.0,
+        "face_limit": 100_000_000,
     }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import pickle
 import shutil
 import subprocess
 from pathlib import Path
@@ -34,12 +35,45 @@ def test_arrays_round_trip(small_cell: Path) -> None:
     assert np.array_equal(ma.faces, mb.faces)
 
 
+def test_a_morphology_pickles_and_meshes_the_same(small_cell: Path) -> None:
+    a = neuromesh_rs.Morphology.from_swc(small_cell)
+    b = pickle.loads(pickle.dumps(a))
+    assert isinstance(b, neuromesh_rs.Morphology)
+    assert np.array_equal(a.ids, b.ids) and np.array_equal(a.radii, b.radii)
+    ma, mb = a.mesh(), b.mesh()
+    assert np.array_equal(ma.vertices, mb.vertices)
+    assert np.array_equal(ma.faces, mb.faces)
+
+
 def test_arrays_accept_lists_and_other_dtypes() -> None:
     m = neuromesh_rs.Morphology.from_arrays(
         [1, 2, 3], [1, 3, 3], [[0, 0, 0], [5, 0, 0], [10, 0, 0]], [2, 1, 1], [-1, 1, 2]
     )
     assert m.soma_kind == "single point"
     assert m.parents.tolist() == [-1, 1, 2]
+
+
+@pytest.mark.parametrize(
+    ("column", "value", "message"),
+    [
+        ("ids", 1.5, r"ids\[1\] = 1.5 is not an integer"),
+        ("parents", 1.9, r"parents\[1\] = 1.9 is not an integer"),
+        ("parents", float("nan"), r"parents\[1\] = NaN is not an integer"),
+        ("types", 2**40 + 3, r"types\[1\] = .* is out of range"),
+        ("ids", 2.0**60, r"ids\[1\] = .* is out of range"),
+    ],
+)
+def test_arrays_are_as_strict_as_the_reader(column: str, value: float, message: str) -> None:
+    cols = {
+        "ids": [1.0, 2.0],
+        "types": [1.0, 3.0],
+        "xyz": [[0, 0, 0], [5, 0, 0]],
+        "radii": [2.0, 1.0],
+        "parents": [-1.0, 1.0],
+    }
+    cols[column] = [cols[column][0], value]
+    with pytest.raises(ValueError, match=message):
+        neuromesh_rs.Morphology.from_arrays(**cols)
 
 
 def test_arrays_are_read_only_and_cached(small_cell: Path) -> None:

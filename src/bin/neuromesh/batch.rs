@@ -12,6 +12,8 @@ use neuromesh::{Error, Params, batch, io};
 /// What one successful file gave.
 struct Written {
     triangles: usize,
+    /// Why the mesh is not sound ([`neuromesh::Mesh::quick_defects`]).
+    defects: Vec<String>,
 }
 
 pub fn run(
@@ -20,6 +22,7 @@ pub fn run(
     format: &str,
     jobs: Option<usize>,
     quiet: bool,
+    allow_unsound: bool,
     params: &Params,
 ) -> Result<ExitCode, Error> {
     params.validate()?;
@@ -56,6 +59,7 @@ pub fn run(
             io::write_as(output, &mesh, format)?;
             Ok(Written {
                 triangles: mesh.faces.len(),
+                defects: mesh.quick_defects(),
             })
         },
         |done, outcome| {
@@ -64,12 +68,22 @@ pub fn run(
             let mut bar = bar
                 .as_ref()
                 .map(|b| b.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
-            if let Err(e) = &outcome.result {
+            let said = match &outcome.result {
+                Err(e) => Some(format!("error: {e}")),
+                Ok(w) if !w.defects.is_empty() => Some(format!(
+                    "{}: {}: the mesh written is not sound ({})",
+                    if allow_unsound { "warning" } else { "error" },
+                    outcome.input.display(),
+                    w.defects.join(", ")
+                )),
+                Ok(_) => None,
+            };
+            if let Some(said) = said {
                 if let Some(bar) = bar.as_mut() {
-                    bar.failed += 1;
+                    bar.failed += usize::from(outcome.result.is_err());
                     bar.clear();
                 }
-                eprintln!("error: {e}");
+                eprintln!("{said}");
             }
             if let Some(bar) = bar.as_mut() {
                 bar.draw(done, &outcome.input);
@@ -83,12 +97,15 @@ pub fn run(
     }
     let wall = start.elapsed().as_secs_f64();
 
-    let mut failed = 0;
+    let (mut failed, mut unsound) = (0, 0);
     let (mut triangles, mut busy) = (0usize, 0.0);
     for o in &outcomes {
         busy += o.seconds;
         match &o.result {
-            Ok(w) => triangles += w.triangles,
+            Ok(w) => {
+                triangles += w.triangles;
+                unsound += usize::from(!w.defects.is_empty());
+            }
             Err(_) => failed += 1,
         }
     }
@@ -107,9 +124,15 @@ pub fn run(
         "time       {wall:.2} s wall, {busy:.2} s summed over files, {threads} thread{}",
         if threads == 1 { "" } else { "s" }
     );
+    if unsound > 0 {
+        println!("unsound    {unsound} (written; reasons above)");
+    }
     if failed > 0 {
         println!("failed     {failed} (reasons above)");
         return Ok(ExitCode::from(1));
+    }
+    if unsound > 0 && !allow_unsound {
+        return Ok(ExitCode::from(4));
     }
     Ok(ExitCode::SUCCESS)
 }

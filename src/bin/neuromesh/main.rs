@@ -3,7 +3,9 @@
 //! Exit codes: 0 on success, 1 with `error: FILE:LINE: reason` on stderr for bad
 //! input or a failed write (for `batch`: when any file failed, after meshing all
 //! the others), 2 for usage errors (clap), 3 when `check --strict` finds a
-//! defect.
+//! defect, 4 when `mesh` or `batch` wrote a mesh that is not sound (open,
+//! non-manifold, or with crossings the overlap pass left; the file is kept
+//! for inspection, and `--allow-unsound` makes it a success).
 
 mod batch;
 
@@ -42,13 +44,18 @@ enum Cmd {
         /// Print nothing on success.
         #[arg(short, long)]
         quiet: bool,
+        /// Exit with 0 even when the mesh is not sound (see the exit codes).
+        #[arg(long)]
+        allow_unsound: bool,
         #[command(flatten)]
         params: Params,
     },
     /// Mesh many SWC files in parallel into a folder.
     ///
-    /// Goes on past a bad file, shows a progress bar on a terminal, and ends
-    /// with a summary; exits with 1 if any file failed.
+    /// Goes on past a bad file, checks every mesh it writes (closed,
+    /// manifold, no crossings left by the overlap pass), shows a progress bar
+    /// on a terminal, and ends with a summary; exits with 1 if any file
+    /// failed, else 4 if any mesh is not sound.
     Batch {
         /// SWC files, folders (their *.swc files) or quoted patterns such as
         /// 'cells/*.swc'.
@@ -66,6 +73,9 @@ enum Cmd {
         /// No progress bar; errors and the summary only.
         #[arg(short, long)]
         quiet: bool,
+        /// Count unsound meshes in the summary but exit with 0 for them.
+        #[arg(long)]
+        allow_unsound: bool,
         #[command(flatten)]
         params: Params,
     },
@@ -123,6 +133,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             output,
             check,
             quiet,
+            allow_unsound,
             params,
         } => {
             params.validate()?;
@@ -146,11 +157,38 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
                     start.elapsed().as_secs_f64() * 1e3
                 );
             }
-            if check {
+            let sound = if check {
                 let scaled = morphology.scaled(params.scale)?;
-                println!("{}", mesh.check_with(&scaled));
+                let report = mesh.check_with(&scaled);
+                println!("{report}");
+                report.is_sound()
+            } else {
+                true
+            };
+            let defects = mesh.quick_defects();
+            if sound && defects.is_empty() {
+                return Ok(ExitCode::SUCCESS);
             }
-            Ok(ExitCode::SUCCESS)
+            eprintln!(
+                "{}: {}: the mesh written is not sound ({}){}",
+                if allow_unsound { "warning" } else { "error" },
+                output.display(),
+                if defects.is_empty() {
+                    "self-intersections; see the check above".to_owned()
+                } else {
+                    defects.join(", ")
+                },
+                if allow_unsound {
+                    ""
+                } else {
+                    "; kept for inspection, --allow-unsound exits 0"
+                }
+            );
+            Ok(if allow_unsound {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(4)
+            })
         }
         Cmd::Batch {
             inputs,
@@ -158,8 +196,17 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             format,
             jobs,
             quiet,
+            allow_unsound,
             params,
-        } => batch::run(&inputs, &output, &format, jobs, quiet, &params),
+        } => batch::run(
+            &inputs,
+            &output,
+            &format,
+            jobs,
+            quiet,
+            allow_unsound,
+            &params,
+        ),
         Cmd::Info { input, json, union } => {
             let m = Morphology::from_swc(&input)?;
             warn_radii(&input, &m);

@@ -390,6 +390,10 @@ pub(super) fn check_acyclic(samples: &[RawSample], parent: &[u32], path: &str) -
     ))
 }
 
+/// A soma point's radius below this fraction of its widest neighbour's is
+/// taken as missing.
+const TINY_SOMA: f64 = 1e-3;
+
 pub(super) fn fill_missing_radii(
     radius: &mut [f64],
     pos: &[[f64; 3]],
@@ -401,17 +405,27 @@ pub(super) fn fill_missing_radii(
     cleaning: &mut Cleaning,
 ) {
     let valid = |r: f64| r.is_finite() && r > 0.0;
-    let missing: Vec<bool> = radius.iter().map(|&r| !valid(r)).collect();
-    let _ = &missing;
     let neighbours = |k: usize| &adj[adj_start[k] as usize..adj_start[k + 1] as usize];
+    let widest_neighbour = |k: usize, radius: &[f64]| {
+        neighbours(k)
+            .iter()
+            .map(|&q| radius[q as usize])
+            .filter(|&r| valid(r))
+            .fold(0f64, f64::max)
+    };
+    // A soma point a thousand times thinner than a neighbour holds no soma
+    // (a radius of 1e-30 written for "unknown"): its trunks would all leave
+    // one point and cross each other. It counts as missing.
+    let missing: Vec<bool> = (0..radius.len())
+        .map(|k| {
+            !valid(radius[k])
+                || (kinds[k] == 1 && radius[k] < TINY_SOMA * widest_neighbour(k, radius))
+        })
+        .collect();
     // Soma points first: their neighbours' radii decide the fallback.
     for k in 0..radius.len() {
         if missing[k] && kinds[k] == 1 {
-            let best = neighbours(k)
-                .iter()
-                .map(|&q| radius[q as usize])
-                .filter(|&r| valid(r))
-                .fold(0f64, f64::max);
+            let best = widest_neighbour(k, radius);
             if best > 0.0 {
                 radius[k] = 1.5 * best;
                 cleaning.soma_radius_fallbacks += 1;

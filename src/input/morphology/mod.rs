@@ -17,7 +17,8 @@
 //!    radius is valid. A tree with no valid radius at all (some tracers write only
 //!    zeros) gets `0.25 ×` its median segment length: thin enough to keep
 //!    neighbouring branches apart, thick enough to mesh. A soma point with a missing
-//!    radius gets `1.5 ×` the largest radius among its neighbours, so its trunks fit.
+//!    radius (or one a thousand times thinner than a neighbour: a placeholder) gets
+//!    `1.5 ×` the largest radius among its neighbours, so its trunks fit.
 //!    The counts of all three go into [`Cleaning`].
 //! 4. **Soma and roots.** The type-1 samples of a tree form its soma; when several
 //!    groups exist the largest is the soma and the others are ordinary samples. A
@@ -383,6 +384,17 @@ mod tests {
         assert_eq!(m.radii()[0], 3.0);
         assert_eq!(m.trees()[0].soma.as_ref().unwrap().radius, 3.0);
         assert_eq!(m.cleaning().soma_radius_fallbacks, 1);
+    }
+
+    #[test]
+    fn a_placeholder_soma_radius_uses_neighbours() {
+        let m = morph("1 1 0 0 0 1e-30 -1\n2 3 10 0 0 2 1\n3 3 20 0 0 1 2\n").unwrap();
+        assert_eq!(m.radii()[0], 3.0);
+        assert_eq!(m.cleaning().soma_radius_fallbacks, 1);
+        // A small soma point that is still a soma stays as written.
+        let m = morph("1 1 0 0 0 0.1 -1\n2 3 10 0 0 2 1\n").unwrap();
+        assert_eq!(m.radii()[0], 0.1);
+        assert_eq!(m.cleaning().soma_radius_fallbacks, 0);
     }
 
     #[test]
