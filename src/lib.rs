@@ -78,6 +78,7 @@ pub use params::{
     DEFAULT_SCALE, PARAM_NAMES, Params,
 };
 pub use pipeline::budget::{Estimate, estimate};
+pub use pipeline::repairs::repairs;
 pub use pipeline::{mesh_morphology, mesh_swc};
 
 #[cfg(feature = "internals")]

@@ -390,3 +390,97 @@ fn batch_keeps_dotted_names_and_meshes_past_a_name_collision() {
         assert!(out_dir.join(name).exists(), "{name}");
     }
 }
+
+#[test]
+fn batch_resumes_and_writes_its_summary() {
+    let input = tmp("batch-resume-in");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::copy("tests/data/y_bifurcation.swc", input.join("y.swc")).unwrap();
+    std::fs::write(input.join("bad.swc"), b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n").unwrap();
+    let (out_dir, csv) = (tmp("batch-resume-out"), tmp("batch-resume.csv"));
+    let run = || {
+        neuromesh(&[
+            "batch",
+            input.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+            "--skip-existing",
+            "--summary",
+            csv.to_str().unwrap(),
+        ])
+    };
+    let first = run();
+    assert_eq!(first.status.code(), Some(1), "{}", text(&first.stderr));
+    let table = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines[0], "input,output,status,triangles,seconds,message");
+    assert!(
+        lines[1].contains("bad.swc") && lines[1].contains(",failed,"),
+        "{table}"
+    );
+    assert!(
+        lines[2].contains("y.swc") && lines[2].contains(",meshed,1"),
+        "{table}"
+    );
+    // Again: the mesh that exists is left alone, the bad file fails again.
+    let again = run();
+    assert!(
+        text(&again.stdout).contains("(0 meshed, 1 failed, 1 skipped)"),
+        "{}",
+        text(&again.stdout)
+    );
+    let table = std::fs::read_to_string(&csv).unwrap();
+    assert!(table.contains(",skipped,"), "{table}");
+}
+
+#[test]
+fn an_interrupted_batch_leaves_no_partial_file_and_says_what_it_did() {
+    let input = tmp("batch-int-in");
+    std::fs::create_dir_all(&input).unwrap();
+    for name in [
+        "rat_neocortex_interneuron_MTC260800D-IDA.CNG.swc",
+        "mouse_allen_test_swc_26k.swc",
+        "rat_L6B_pyramidal_BC-2009-10-12-D.CNG.swc",
+    ] {
+        std::fs::copy(format!("tests/data/real/{name}"), input.join(name)).unwrap();
+    }
+    let (out_dir, csv) = (tmp("batch-int-out"), tmp("batch-int.csv"));
+    let child = Command::new(env!("CARGO_BIN_EXE_neuromesh"))
+        .args([
+            "batch",
+            input.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+            "-j",
+            "1",
+            "--summary",
+            csv.to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("not done: interrupted"),
+        "{}",
+        text(&out.stdout)
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(&out_dir)
+        .map(|d| d.filter_map(Result::ok).map(|e| e.file_name()).collect())
+        .unwrap_or_default();
+    assert!(
+        leftovers
+            .iter()
+            .all(|n| !n.to_string_lossy().ends_with(".tmp")),
+        "{leftovers:?}"
+    );
+    assert!(csv.exists(), "no summary written on interrupt");
+}

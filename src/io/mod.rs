@@ -111,6 +111,48 @@ pub fn precision_warning(mesh: &Mesh, format: Format) -> Option<String> {
     ))
 }
 
+/// The temporary files being written now, so that an interrupted process
+/// can remove them ([`remove_unfinished`]).
+static UNFINISHED: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A temporary file listed in [`UNFINISHED`] while it lives.
+struct Unfinished(std::path::PathBuf);
+
+impl Unfinished {
+    fn register(path: &Path) -> Unfinished {
+        UNFINISHED
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push(path.to_path_buf());
+        Unfinished(path.to_path_buf())
+    }
+}
+
+impl Drop for Unfinished {
+    fn drop(&mut self) {
+        let mut list = UNFINISHED
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(k) = list.iter().position(|p| *p == self.0) {
+            list.swap_remove(k);
+        }
+    }
+}
+
+/// Removes the temporary files of the writes in progress and returns how
+/// many there were: what a process stopped by a signal calls before it
+/// exits, so that it leaves no partial file beside its outputs (finished
+/// outputs are whole: each is renamed into place at once).
+pub fn remove_unfinished() -> usize {
+    let list = UNFINISHED
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    for p in list.iter() {
+        let _ = std::fs::remove_file(p);
+    }
+    list.len()
+}
+
 /// Writes `mesh` to `path` in `format`, atomically (temporary file + rename).
 ///
 /// # Errors
@@ -121,6 +163,7 @@ pub fn write_as(path: &Path, mesh: &Mesh, format: Format) -> Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let _unfinished = Unfinished::register(&tmp);
     let result = (|| -> std::io::Result<()> {
         let mut w = BufWriter::with_capacity(1 << 20, File::create(&tmp)?);
         match format {

@@ -7,6 +7,7 @@
 //! could not unite where it leaves crossings ([`retry`]).
 
 pub mod budget;
+pub mod repairs;
 mod retry;
 mod shells;
 

@@ -49,6 +49,34 @@ fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
     Ok((vertices, faces, samples, stats, (ox, oy, oz)))
 }
 
+/// Issues a `UserWarning` for each of `lines` (what meshing changed in the
+/// geometry of `morphology`, or why its radii look implausible), prefixed by
+/// its name: what `neuromesh mesh` prints as warnings on stderr.
+pub(super) fn warn_lines(py: Python<'_>, name: &str, lines: &[String]) -> PyResult<()> {
+    for line in lines {
+        let message = std::ffi::CString::new(format!("{name}: {line}"))
+            .map_err(|e| MeshError::new_err(e.to_string()))?;
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            1,
+        )?;
+    }
+    Ok(())
+}
+
+/// What meshing `morphology` with `params` changes in its geometry, and
+/// why its radii look implausible: the lines [`warn_lines`] gives.
+pub(super) fn geometry_warnings(
+    morphology: &crate::Morphology,
+    params: &crate::Params,
+) -> Vec<String> {
+    let mut lines: Vec<String> = morphology.radius_warning().into_iter().collect();
+    lines.extend(crate::repairs(morphology, params));
+    lines
+}
+
 /// Wraps a core mesh into the pure-Python `neuromesh_rs.Mesh` class.
 ///
 /// A mesh that is not sound ([`Mesh::quick_defects`]) comes with a

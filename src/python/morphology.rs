@@ -18,7 +18,7 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
-use super::convert::python_mesh;
+use super::convert::{geometry_warnings, python_mesh, warn_lines};
 use super::to_py;
 use crate::input::morphology::Morphology;
 use crate::params::{Params, with_params};
@@ -148,9 +148,13 @@ macro_rules! with_mesh_functions {
             fn mesh<'py>(&self, py: Python<'py>, $($name: $ty),*) -> PyResult<Bound<'py, PyAny>> {
                 let params = Params { $($name),* };
                 let m = Arc::clone(&self.inner);
-                let mesh = py
-                    .detach(move || crate::mesh_morphology(&m, &params))
+                let (mesh, warnings) = py
+                    .detach(move || {
+                        let warnings = geometry_warnings(&m, &params);
+                        crate::mesh_morphology(&m, &params).map(|mesh| (mesh, warnings))
+                    })
                     .map_err(to_py)?;
+                warn_lines(py, self.inner.name(), &warnings)?;
                 python_mesh(py, mesh)
             }
         }
@@ -169,9 +173,15 @@ macro_rules! with_mesh_functions {
         #[pyo3(signature = (path, *, $($name = $default),*))]
         pub(super) fn mesh_swc_py(py: Python<'_>, path: PathBuf, $($name: $ty),*) -> PyResult<Bound<'_, PyAny>> {
             let params = Params { $($name),* };
-            let mesh = py
-                .detach(|| crate::mesh_swc(&path, &params))
+            let (mesh, warnings) = py
+                .detach(|| {
+                    params.validate()?;
+                    let m = Morphology::from_swc(&path)?;
+                    let warnings = geometry_warnings(&m, &params);
+                    crate::mesh_morphology(&m, &params).map(|mesh| (mesh, warnings))
+                })
                 .map_err(to_py)?;
+            warn_lines(py, &path.display().to_string(), &warnings)?;
             python_mesh(py, mesh)
         }
 

@@ -45,6 +45,17 @@ def test_a_morphology_pickles_and_meshes_the_same(small_cell: Path) -> None:
     assert np.array_equal(ma.faces, mb.faces)
 
 
+def test_changes_to_the_geometry_are_warned(tmp_path: Path) -> None:
+    cell = tmp_path / "dup.swc"
+    cell.write_text("1 1 0 0 0 5 -1\n2 3 10 0 0 1 1\n3 3 10 0 0 1 2\n4 3 20 0 0 0 3\n")
+    with pytest.warns(UserWarning, match="1 samples at their parent's position merged") as got:
+        neuromesh_rs.mesh_swc(cell)
+    assert any("took the nearest valid radius" in str(w.message) for w in got)
+    m = neuromesh_rs.Morphology.from_swc(cell)
+    with pytest.warns(UserWarning, match="dup.swc: 1 samples"):
+        m.mesh()
+
+
 def test_arrays_accept_lists_and_other_dtypes() -> None:
     m = neuromesh_rs.Morphology.from_arrays(
         [1, 2, 3], [1, 3, 3], [[0, 0, 0], [5, 0, 0], [10, 0, 0]], [2, 1, 1], [-1, 1, 2]

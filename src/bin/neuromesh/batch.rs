@@ -1,5 +1,5 @@
 //! `neuromesh batch`: many files in parallel, a progress bar on a terminal, and
-//! a summary at the end.
+//! a summary at the end ([`crate::ledger`]).
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -9,27 +9,38 @@ use std::time::Instant;
 
 use neuromesh::{Error, Params, batch, io};
 
+use crate::ledger::{self, Row, Status};
+
 /// What one successful file gave.
 struct Written {
     triangles: usize,
     /// Why the mesh is not sound ([`neuromesh::Mesh::quick_defects`]).
     defects: Vec<String>,
+    /// What meshing changed in the file's geometry, and implausible radii.
+    warnings: Vec<String>,
 }
 
-pub fn run(
-    inputs: &[PathBuf],
-    out_dir: &Path,
-    format: &str,
-    jobs: Option<usize>,
-    quiet: bool,
-    allow_unsound: bool,
-    params: &Params,
-) -> Result<ExitCode, Error> {
+/// How a batch runs, as its flags say.
+pub struct Options<'a> {
+    pub out_dir: &'a Path,
+    pub format: &'a str,
+    pub jobs: Option<usize>,
+    pub quiet: bool,
+    pub allow_unsound: bool,
+    /// Leave out inputs whose output exists (a finished output is whole:
+    /// each is renamed into place at once).
+    pub skip_existing: bool,
+    /// Where to write the per-file summary as CSV.
+    pub summary: Option<PathBuf>,
+}
+
+pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<ExitCode, Error> {
     params.validate()?;
-    let format = io::Format::from_extension(format).ok_or_else(|| Error::InvalidParam {
+    let format = io::Format::from_extension(opts.format).ok_or_else(|| Error::InvalidParam {
         name: "format",
-        reason: format!("unknown format {format:?} (obj, ply or stl)"),
+        reason: format!("unknown format {:?} (obj, ply or stl)", opts.format),
     })?;
+    let out_dir = opts.out_dir;
     let files = batch::expand_inputs(inputs)?;
     // An input whose output name another took keeps the reason, and fails
     // alone when its turn comes.
@@ -39,51 +50,105 @@ pub fn run(
             .map(|o| o.map_err(|e| e.to_string()))
             .collect();
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    let target: std::collections::HashMap<&Path, &Result<PathBuf, String>> =
-        files.iter().map(PathBuf::as_path).zip(&outputs).collect();
+    let threads = batch::thread_count(opts.jobs)?;
+    let ledger = ledger::open(
+        files.len(),
+        opts.summary.clone(),
+        format!("{}/*.{}", out_dir.display(), format.extension()),
+        threads,
+    );
+    let mut todo: Vec<PathBuf> = Vec::with_capacity(files.len());
+    let mut place: std::collections::HashMap<&Path, (usize, &Result<PathBuf, String>)> =
+        std::collections::HashMap::new();
+    for (index, (input, output)) in files.iter().zip(&outputs).enumerate() {
+        match output {
+            Ok(out) if opts.skip_existing && out.exists() => ledger.record(Row {
+                index,
+                input: input.clone(),
+                output: Some(out.clone()),
+                status: Status::Skipped,
+                triangles: 0,
+                seconds: 0.0,
+                message: String::new(),
+            }),
+            _ => {
+                todo.push(input.clone());
+                place.insert(input.as_path(), (index, output));
+            }
+        }
+    }
 
     let bar =
-        (!quiet && std::io::stderr().is_terminal()).then(|| Mutex::new(Bar::new(files.len())));
-    let start = Instant::now();
-    let outcomes = batch::run(
-        &files,
-        jobs,
+        (!opts.quiet && std::io::stderr().is_terminal()).then(|| Mutex::new(Bar::new(todo.len())));
+    batch::run(
+        &todo,
+        opts.jobs,
         |input| {
-            let output = target[input]
+            let output = place[input]
+                .1
                 .as_ref()
                 .map_err(|reason| Error::InvalidParam {
                     name: "inputs",
                     reason: reason.clone(),
                 })?;
-            let mesh = neuromesh::mesh_swc(input, params)?;
+            let morphology = neuromesh::Morphology::from_swc(input)?;
+            let mut warnings: Vec<String> = morphology.radius_warning().into_iter().collect();
+            warnings.extend(neuromesh::repairs(&morphology, params));
+            let mesh = neuromesh::mesh_morphology(&morphology, params)?;
             io::write_as(output, &mesh, format)?;
             Ok(Written {
                 triangles: mesh.faces.len(),
                 defects: mesh.quick_defects(),
+                warnings,
             })
         },
         |done, outcome| {
-            // Errors are said as they happen: a batch stopped halfway has
+            // Said and recorded as they happen: a batch stopped halfway has
             // still told what failed.
+            let input = outcome.input.display();
+            let (index, output) = place[outcome.input.as_path()];
+            let mut said: Vec<String> = Vec::new();
+            let row = match &outcome.result {
+                Err(e) => {
+                    said.push(format!("error: {e}"));
+                    (Status::Failed, 0, e.to_string())
+                }
+                Ok(w) => {
+                    said.extend(w.warnings.iter().map(|x| format!("warning: {input}: {x}")));
+                    if w.defects.is_empty() {
+                        (Status::Meshed, w.triangles, String::new())
+                    } else {
+                        let why = w.defects.join(", ");
+                        said.push(format!(
+                            "{}: {input}: the mesh written is not sound ({why})",
+                            if opts.allow_unsound {
+                                "warning"
+                            } else {
+                                "error"
+                            },
+                        ));
+                        (Status::Unsound, w.triangles, why)
+                    }
+                }
+            };
+            ledger.record(Row {
+                index,
+                input: outcome.input.clone(),
+                output: output.as_ref().ok().cloned(),
+                status: row.0,
+                triangles: row.1,
+                seconds: outcome.seconds,
+                message: row.2,
+            });
             let mut bar = bar
                 .as_ref()
                 .map(|b| b.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
-            let said = match &outcome.result {
-                Err(e) => Some(format!("error: {e}")),
-                Ok(w) if !w.defects.is_empty() => Some(format!(
-                    "{}: {}: the mesh written is not sound ({})",
-                    if allow_unsound { "warning" } else { "error" },
-                    outcome.input.display(),
-                    w.defects.join(", ")
-                )),
-                Ok(_) => None,
-            };
-            if let Some(said) = said {
+            if !said.is_empty() {
                 if let Some(bar) = bar.as_mut() {
                     bar.failed += usize::from(outcome.result.is_err());
                     bar.clear();
                 }
-                eprintln!("{said}");
+                eprintln!("{}", said.join("\n"));
             }
             if let Some(bar) = bar.as_mut() {
                 bar.draw(done, &outcome.input);
@@ -95,43 +160,11 @@ pub fn run(
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .clear();
     }
-    let wall = start.elapsed().as_secs_f64();
-
-    let (mut failed, mut unsound) = (0, 0);
-    let (mut triangles, mut busy) = (0usize, 0.0);
-    for o in &outcomes {
-        busy += o.seconds;
-        match &o.result {
-            Ok(w) => {
-                triangles += w.triangles;
-                unsound += usize::from(!w.defects.is_empty());
-            }
-            Err(_) => failed += 1,
-        }
-    }
-    let threads = batch::thread_count(jobs)?;
-    let done = outcomes.len() - failed;
-    println!(
-        "files      {} ({done} meshed, {failed} failed)",
-        outcomes.len()
-    );
-    println!("output     {}/*.{}", out_dir.display(), format.extension());
-    println!(
-        "triangles  {triangles} ({:.2} M/s)",
-        triangles as f64 / wall.max(1e-9) / 1e6
-    );
-    println!(
-        "time       {wall:.2} s wall, {busy:.2} s summed over files, {threads} thread{}",
-        if threads == 1 { "" } else { "s" }
-    );
-    if unsound > 0 {
-        println!("unsound    {unsound} (written; reasons above)");
-    }
+    let (failed, unsound) = ledger.finish(false);
     if failed > 0 {
-        println!("failed     {failed} (reasons above)");
         return Ok(ExitCode::from(1));
     }
-    if unsound > 0 && !allow_unsound {
+    if unsound > 0 && !opts.allow_unsound {
         return Ok(ExitCode::from(4));
     }
     Ok(ExitCode::SUCCESS)

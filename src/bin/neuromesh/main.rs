@@ -5,9 +5,11 @@
 //! the others), 2 for usage errors (clap), 3 when `check --strict` finds a
 //! defect, 4 when `mesh` or `batch` wrote a mesh that is not sound (open,
 //! non-manifold, or with crossings the overlap pass left; the file is kept
-//! for inspection, and `--allow-unsound` makes it a success).
+//! for inspection, and `--allow-unsound` makes it a success), 130 when a
+//! signal stopped it (its unfinished outputs removed).
 
 mod batch;
+mod ledger;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -76,6 +78,15 @@ enum Cmd {
         /// Count unsound meshes in the summary but exit with 0 for them.
         #[arg(long)]
         allow_unsound: bool,
+        /// Leave out inputs whose output exists (resumes a batch: outputs
+        /// are renamed into place whole, so an existing one is complete).
+        #[arg(long)]
+        skip_existing: bool,
+        /// Also write the outcome of every input to this CSV file (input,
+        /// output, status, triangles, seconds, message), even when the batch
+        /// is interrupted.
+        #[arg(long, value_name = "FILE.csv")]
+        summary: Option<PathBuf>,
         #[command(flatten)]
         params: Params,
     },
@@ -109,6 +120,12 @@ enum Cmd {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // SIGINT, SIGTERM or SIGHUP: no partial file is left, and a batch says
+    // what it did so far. 130 is the shell's code for a process stopped so.
+    let _ = ctrlc::set_handler(|| {
+        ledger::interrupted();
+        std::process::exit(130);
+    });
     match run(cli.cmd) {
         Ok(code) => code,
         Err(e) => {
@@ -123,6 +140,14 @@ fn main() -> ExitCode {
 fn warn_radii(input: &std::path::Path, m: &Morphology) {
     if let Some(why) = m.radius_warning() {
         eprintln!("warning: {}: {why}", input.display());
+    }
+}
+
+/// Says on stderr every change meshing makes to the file's geometry
+/// ([`neuromesh::repairs`]).
+fn warn_repairs(input: &std::path::Path, m: &Morphology, params: &Params) {
+    for change in neuromesh::repairs(m, params) {
+        eprintln!("warning: {}: {change}", input.display());
     }
 }
 
@@ -141,6 +166,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
             warn_radii(&input, &morphology);
+            warn_repairs(&input, &morphology, &params);
             let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
             let meshed = start.elapsed();
             io::write(&output, &mesh)?;
@@ -197,14 +223,20 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             jobs,
             quiet,
             allow_unsound,
+            skip_existing,
+            summary,
             params,
         } => batch::run(
             &inputs,
-            &output,
-            &format,
-            jobs,
-            quiet,
-            allow_unsound,
+            &batch::Options {
+                out_dir: &output,
+                format: &format,
+                jobs,
+                quiet,
+                allow_unsound,
+                skip_existing,
+                summary,
+            },
             &params,
         ),
         Cmd::Info { input, json, union } => {

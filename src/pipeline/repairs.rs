@@ -1,0 +1,113 @@
+//! Every change the mesher makes to the geometry a file gives, said in words.
+//!
+//! Cleaning ([`crate::Morphology`]) merges duplicate points and fills missing
+//! radii; the frame ([`crate::skeleton::geometry`]) raises radii to a floor
+//! that keeps the f32 output's contours distinct. Each changes the surface
+//! against the union of the radii as written, so each is said where the
+//! user looks: `neuromesh mesh` and `batch` print these lines as warnings on
+//! stderr, Python gives them as `UserWarning`s, and `info` counts them.
+
+use crate::input::morphology::Morphology;
+use crate::params::Params;
+use crate::skeleton::geometry::{RELATIVE_RADIUS_FLOOR, frame_origin_of};
+
+/// The radii `params` raises to its floor: how many, the floor, and the
+/// largest factor by which one grows.
+pub fn raised_radii(morphology: &Morphology, params: &Params) -> (usize, f64, f64) {
+    let scale = params.scale;
+    let origin = frame_origin_of(morphology, scale);
+    let extent = morphology
+        .positions()
+        .iter()
+        .flat_map(|p| (0..3).map(move |k| (p[k] * scale - origin[k]).abs()))
+        .fold(0.0, f64::max);
+    let floor = params.min_radius.max(RELATIVE_RADIUS_FLOOR * extent);
+    let (mut count, mut factor) = (0usize, 1.0f64);
+    for &r in morphology.radii() {
+        let r = r * scale;
+        if r < floor {
+            count += 1;
+            factor = factor.max(floor / r);
+        }
+    }
+    (count, floor, factor)
+}
+
+/// One line per change made to `morphology`'s geometry (empty when none),
+/// each with how many samples and by how much.
+pub fn repairs(morphology: &Morphology, params: &Params) -> Vec<String> {
+    let c = morphology.cleaning();
+    let mut out = Vec::new();
+    if c.duplicates_merged > 0 {
+        out.push(format!(
+            "{} samples at their parent's position merged into it",
+            c.duplicates_merged
+        ));
+    }
+    if c.radii_from_neighbours > 0 {
+        out.push(format!(
+            "{} zero, negative or missing radii took the nearest valid radius",
+            c.radii_from_neighbours
+        ));
+    }
+    if c.radii_from_default > 0 {
+        out.push(format!(
+            "{} radii set to a quarter of the median segment length (no valid radius in their tree)",
+            c.radii_from_default
+        ));
+    }
+    if c.soma_radius_fallbacks > 0 {
+        out.push(format!(
+            "{} soma radii (missing, or a thousand times thinner than a neighbour) set to 1.5 times \
+             the widest neighbour's",
+            c.soma_radius_fallbacks
+        ));
+    }
+    let (count, floor, factor) = raised_radii(morphology, params);
+    if count > 0 {
+        out.push(format!(
+            "{count} radii raised to the floor {floor:.4e} (output units; the larger of \
+             --min-radius and 1e-5 of the cell's extent, which keeps the f32 output's contours \
+             distinct), by up to {factor:.3} times"
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn morph(text: &str) -> Morphology {
+        let file = crate::input::swc::SwcFile::parse(text.as_bytes(), "t.swc").expect("valid");
+        Morphology::from_file(file).expect("valid")
+    }
+
+    #[test]
+    fn a_clean_file_has_no_repairs() {
+        let m = morph("1 1 0 0 0 5 -1\n2 3 10 0 0 1 1\n3 3 20 0 0 1 2\n");
+        assert!(repairs(&m, &Params::default()).is_empty());
+    }
+
+    #[test]
+    fn every_repair_is_said_with_its_count() {
+        // A zero radius, a duplicate point, and a radius far below the floor
+        // of a cell 100,000 long.
+        let m = morph("1 1 0 0 0 5 -1\n2 3 10 0 0 0 1\n3 3 10 0 0 1 2\n4 3 100000 0 0 0.001 3\n");
+        let said = repairs(&m, &Params::default()).join("\n");
+        assert!(
+            said.contains("1 samples at their parent's position"),
+            "{said}"
+        );
+        assert!(said.contains("radii raised to the floor"), "{said}");
+        let (count, floor, factor) = raised_radii(&m, &Params::default());
+        assert_eq!(count, 1);
+        // 1e-5 of the extent from the frame's origin: the cell's middle or
+        // the coordinates' origin, whichever the frame is built around.
+        assert!((0.5..=1.0).contains(&floor), "{floor}");
+        assert!((factor - floor / 0.001).abs() < 1e-6, "{factor}");
+        // A floor of the user's own, far above, counts every radius.
+        let p = Params::default().with_min_radius(10.0);
+        assert_eq!(raised_radii(&m, &p).0, m.len());
+    }
+}
