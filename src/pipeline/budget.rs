@@ -138,11 +138,21 @@ pub const LARGEST_VALUE: f64 = 1e15;
 /// its coordinates.
 pub const OUTLIER_FACTOR: f64 = 1000.0;
 
+/// Most children of one branch point off the soma. Where children leave one
+/// point of a neurite, every pair of them crosses near it, and the overlap
+/// pass that unites them grows much faster than their number (20 children
+/// take seconds, 50 minutes); real cells have at most about 10 (the corpus's
+/// largest has 10), and a soma takes hundreds (it is built as a sphere with
+/// trunks).
+pub const MAX_CHILDREN: usize = 24;
+
 /// Refuses values that no cell has: a coordinate or radius beyond
-/// [`LARGEST_VALUE`], and a sample [`OUTLIER_FACTOR`] times farther from the
-/// cell's centre than 99 % of the samples. Meshed, the first overflows the
-/// output, and the second turns the relative radius floor of
-/// [`crate::skeleton::geometry`] into a blob the size of the outlier.
+/// [`LARGEST_VALUE`], a branch point off the soma with more than
+/// [`MAX_CHILDREN`] children, and a sample [`OUTLIER_FACTOR`] times farther
+/// from the cell's centre than 99 % of the samples. Meshed, the first
+/// overflows the output, the second runs for minutes, and the third turns
+/// the relative radius floor of [`crate::skeleton::geometry`] into a blob
+/// the size of the outlier.
 ///
 /// # Errors
 /// [`Error::Swc`] at the line of the first such sample.
@@ -176,6 +186,19 @@ pub fn check_values(morphology: &Morphology, scale: f64) -> Result<()> {
             ));
         }
     }
+    if let Some(i) = (0..pos.len()).find(|&i| {
+        !morphology.is_soma(i as u32) && morphology.children(i as u32).len() > MAX_CHILDREN
+    }) {
+        return Err(at(
+            i,
+            format!(
+                "the sample has {} children: a branch point off the soma with more than \
+                 {MAX_CHILDREN} is not meshed (the union of its children's crossings grows \
+                 much faster than their number)",
+                morphology.children(i as u32).len()
+            ),
+        ));
+    }
     let n = pos.len();
     if n < 20 {
         return Ok(());
@@ -192,7 +215,8 @@ pub fn check_values(morphology: &Morphology, scale: f64) -> Result<()> {
             .sqrt()
     };
     let mut d: Vec<f64> = pos.iter().map(distance).collect();
-    let q = n * 99 / 100;
+    // The 99th percentile, and never the farthest sample itself.
+    let q = ((n - 1) * 99 / 100).min(n - 2);
     let typical = *d.select_nth_unstable_by(q, f64::total_cmp).1;
     let reach = OUTLIER_FACTOR * typical.max(100.0 * median(radii.to_vec()));
     if let Some(i) = pos.iter().position(|p| distance(p) > reach) {
@@ -206,4 +230,91 @@ pub fn check_values(morphology: &Morphology, scale: f64) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn morph(text: &str) -> Morphology {
+        let file = crate::input::swc::SwcFile::parse(text.as_bytes(), "t.swc").expect("valid");
+        Morphology::from_file(file).expect("valid")
+    }
+
+    /// A soma and a straight dendrite of `n` unit steps of radius `r`.
+    fn dendrite(n: usize, r: f64) -> String {
+        let mut text = String::from("1 1 0 0 0 3 -1\n");
+        for i in 2..=n + 1 {
+            text += &format!("{i} 3 {} 0 0 {r} {}\n", 2 + i, i - 1);
+        }
+        text
+    }
+
+    fn reason(m: &Morphology, params: &Params) -> (usize, String) {
+        match check(m, params) {
+            Err(Error::Swc(e)) => (e.line, e.reason),
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_estimate_follows_formulas_one_and_three() {
+        // 40 segments of length 1 at radius 0.5: floor(1 / 0.5) + k1 + 1 = 4
+        // contours of 12 vertices each, 2 triangles per vertex and contour.
+        let m = morph(&dendrite(41, 0.5));
+        let e = estimate(&m, &Params::default());
+        assert!((e.faces - 40.0 * 4.0 * 12.0 * 2.0).abs() < 1000.0, "{e:?}");
+        assert!(check(&m, &Params::default()).is_ok());
+    }
+
+    #[test]
+    fn a_cell_past_the_limit_is_refused_at_its_largest_segment() {
+        let mut text = dendrite(30, 0.5);
+        text += "32 3 1000 0 0 0.5 31\n";
+        let m = morph(&text);
+        let params = Params::default().with_face_limit(10_000);
+        let (line, why) = reason(&m, &params);
+        assert_eq!(line, 32);
+        assert!(why.contains("more than face_limit (10000)"), "{why}");
+        // No limit: accepted.
+        assert!(check(&m, &params.with_face_limit(0)).is_ok());
+    }
+
+    #[test]
+    fn values_no_cell_has_are_refused_at_their_line() {
+        let mut text = dendrite(30, 0.5);
+        text += "32 3 1e30 0 0 0.5 31\n";
+        let (line, why) = reason(&morph(&text), &Params::default());
+        assert_eq!(line, 32);
+        assert!(why.contains("beyond"), "{why}");
+        let mut text = dendrite(30, 0.5);
+        text += "32 3 0 1e8 0 0.5 31\n";
+        let (line, why) = reason(&morph(&text), &Params::default());
+        assert_eq!(line, 32);
+        assert!(why.contains("outlying coordinate"), "{why}");
+        // A long but plausible segment is no outlier.
+        let mut text = dendrite(30, 0.5);
+        text += "32 3 0 300 0 0.5 31\n";
+        assert!(check(&morph(&text), &Params::default()).is_ok());
+    }
+
+    #[test]
+    fn a_branch_point_with_too_many_children_is_refused() {
+        let mut text = dendrite(5, 0.5);
+        for k in 0..=MAX_CHILDREN {
+            let a = k as f64;
+            text += &format!(
+                "{} 3 7 {} {} 0.3 6\n",
+                10 + k,
+                10.0 * a.cos(),
+                10.0 * a.sin()
+            );
+        }
+        let (line, why) = reason(&morph(&text), &Params::default());
+        assert_eq!(line, 6);
+        assert!(
+            why.contains(&format!("{} children", MAX_CHILDREN + 1)),
+            "{why}"
+        );
+    }
 }

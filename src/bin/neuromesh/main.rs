@@ -166,8 +166,8 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
             warn_radii(&input, &morphology);
-            warn_repairs(&input, &morphology, &params);
             let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
+            warn_repairs(&input, &morphology, &params);
             let meshed = start.elapsed();
             io::write(&output, &mesh)?;
             if let Some(why) = io::precision_warning(&mesh, io::Format::from_path(&output)?) {

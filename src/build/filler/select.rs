@@ -140,7 +140,7 @@ pub fn select(
 
 /// A segment whose skipped contours leave out less than this share of its
 /// round cone's volume is held by its tube but for a corner.
-const HELD: f64 = 0.5;
+const HELD: f64 = 0.6;
 
 /// The filler of skipped segment `segments[i]`: its own round cone, straight,
 /// drawn in ([`SEGMENT_SHRINK`], [`SAMPLE_SHRINK`]), starting flat where the
