@@ -42,7 +42,7 @@ pub fn mesh_swc(path: impl AsRef<std::path::Path>, params: &Params) -> Result<Me
 /// # Errors
 /// [`crate::Error::InvalidParam`] for a bad parameter, [`crate::Error::Swc`]
 /// for a cell estimated to need more than `params.face_limit` triangles
-/// ([`budget`]).
+/// (estimated by [`crate::estimate`]), or for values no cell has.
 pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh> {
     params.validate()?;
     budget::check(morphology, params)?;
