@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Sequence
-from typing import Any, final
+from typing import Any, Literal, final, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -133,11 +133,33 @@ def mesh_swc(
 ) -> Mesh:
     """Reads an SWC file and meshes it into a ``neuromesh_rs.Mesh``."""
 
+@overload
 def mesh_many(
     paths: Sequence[str | os.PathLike[str]],
     *,
     threads: int | None = None,
-    return_exceptions: bool = False,
+    return_exceptions: Literal[False] = False,
+    # params:begin
+    angle_threshold: float = 10.0,
+    k1: int = 1,
+    min_vertices: int = 12,
+    max_vertices: int = 64,
+    cap_rings: int = 3,
+    resolution: float = 1.0,
+    min_radius: float = 0.0,
+    scale: float = 1.0,
+    face_limit: int = 100_000_000,
+    # params:end
+) -> list[Mesh]:
+    """Meshes many SWC files in parallel, detached from the interpreter; the
+    results come back in input order, and the first failed file's exception is raised."""
+
+@overload
+def mesh_many(
+    paths: Sequence[str | os.PathLike[str]],
+    *,
+    threads: int | None = None,
+    return_exceptions: Literal[True],
     # params:begin
     angle_threshold: float = 10.0,
     k1: int = 1,

@@ -189,7 +189,14 @@ pub fn write_as(path: &Path, mesh: &Mesh, format: Format) -> Result<()> {
 /// valid mesh of its format.
 pub fn read(path: impl AsRef<Path>) -> Result<Mesh> {
     let path = path.as_ref();
-    let format = Format::from_path(path)?;
+    // The file being read is the problem, not an output parameter.
+    let format = Format::from_path(path).map_err(|_| {
+        Error::mesh_file(
+            path,
+            0,
+            "cannot tell the mesh format from the extension: use .obj, .ply or .stl",
+        )
+    })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let mesh = match format {
         Format::Obj => read_obj(&bytes, path)?,
@@ -243,6 +250,14 @@ mod tests {
     fn unknown_extension_is_a_clear_error() {
         let e = write(tmp("cube.xyz"), &cube()).unwrap_err();
         assert!(e.to_string().contains(".obj, .ply or .stl"), "{e}");
+        // Reading: the file is named, no parameter is.
+        let e = read("cells/cube.xyz").unwrap_err();
+        assert!(matches!(e, Error::MeshFile { .. }), "{e:?}");
+        assert!(
+            e.to_string()
+                .starts_with("cells/cube.xyz: cannot tell the mesh format"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -198,15 +198,15 @@ macro_rules! with_mesh_functions {
         )]
         #[pyfunction(name = "mesh_many")]
         #[pyo3(signature = (paths, *, threads=None, return_exceptions=false, $($name = $default),*))]
-        pub(super) fn mesh_many_py(
-            py: Python<'_>,
-            paths: Vec<PathBuf>,
+        pub(super) fn mesh_many_py<'py>(
+            py: Python<'py>,
+            paths: &Bound<'py, PyAny>,
             threads: Option<usize>,
             return_exceptions: bool,
             $($name: $ty),*
-        ) -> PyResult<Bound<'_, PyList>> {
+        ) -> PyResult<Bound<'py, PyList>> {
             let params = Params { $($name),* };
-            mesh_many(py, paths, threads, return_exceptions, params)
+            mesh_many(py, path_list(paths)?, threads, return_exceptions, params)
         }
     };
 }
@@ -434,6 +434,26 @@ with_params!(with_mesh_functions! {
         )
     }
 });
+
+/// `mesh_many`'s paths: a sequence of str or path-like objects. One path
+/// alone is a `TypeError` that says so (a str is a sequence of characters).
+fn path_list(paths: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
+    if paths.is_instance_of::<pyo3::types::PyString>() || paths.hasattr("__fspath__")? {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "mesh_many takes a sequence of paths, got a single path: pass [path], \
+             or call mesh_swc for one file",
+        ));
+    }
+    paths.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "mesh_many takes a sequence of str or os.PathLike, got {}",
+            paths
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".to_owned(), |n| n.to_string())
+        ))
+    })
+}
 
 /// `mesh_many` once its arguments are extracted.
 fn mesh_many(

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import inspect
+from pathlib import Path
+
+import pytest
 
 import neuromesh_rs
 from neuromesh_rs import _native
@@ -49,3 +52,12 @@ def test_exceptions_subclass_builtins() -> None:
     assert issubclass(neuromesh_rs.SwcError, ValueError)
     assert issubclass(neuromesh_rs.MeshFileError, ValueError)
     assert issubclass(neuromesh_rs.MeshError, RuntimeError)
+
+
+def test_mesh_many_says_when_given_one_path(tmp_path: Path) -> None:
+    with pytest.raises(TypeError, match=r"single path: pass \[path\]"):
+        neuromesh_rs.mesh_many("cell.swc")
+    with pytest.raises(TypeError, match="single path"):
+        neuromesh_rs.mesh_many(tmp_path / "cell.swc")
+    with pytest.raises(TypeError, match="sequence of str or os.PathLike, got int"):
+        neuromesh_rs.mesh_many(3)  # type: ignore[arg-type]

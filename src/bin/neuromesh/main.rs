@@ -143,6 +143,24 @@ fn warn_radii(input: &std::path::Path, m: &Morphology) {
     }
 }
 
+/// Triangles (before thinning) above which `mesh` says, before it starts,
+/// how large the mesh will be.
+const ANNOUNCED: f64 = 10e6;
+
+/// Says on stderr, before meshing, when the mesh will be large, and what
+/// would make it smaller.
+fn announce_size(input: &std::path::Path, m: &Morphology, params: &Params) {
+    let e = neuromesh::estimate(m, params);
+    if e.faces > ANNOUNCED {
+        eprintln!(
+            "note: {}: about {:.0} M triangles expected (before straight stretches are \
+             thinned); --resolution below 1 or a smaller --min-vertices make fewer",
+            input.display(),
+            e.faces / 1e6
+        );
+    }
+}
+
 /// Says on stderr every change meshing makes to the file's geometry
 /// ([`neuromesh::repairs`]).
 fn warn_repairs(input: &std::path::Path, m: &Morphology, params: &Params) {
@@ -166,6 +184,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
             warn_radii(&input, &morphology);
+            announce_size(&input, &morphology, &params);
             let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
             warn_repairs(&input, &morphology, &params);
             let meshed = start.elapsed();
