@@ -56,6 +56,15 @@ def test_changes_to_the_geometry_are_warned(tmp_path: Path) -> None:
         m.mesh()
 
 
+def test_nan_radii_from_arrays_are_filled_and_warned() -> None:
+    m = neuromesh_rs.Morphology.from_arrays(
+        [1, 2, 3], [1, 3, 3], [[0, 0, 0], [5, 0, 0], [10, 0, 0]], [2, float("nan"), 1], [-1, 1, 2]
+    )
+    assert m.radii[1] in (2.0, 1.0)  # a neighbour's, one hop away
+    with pytest.warns(UserWarning, match="took the nearest valid radius"):
+        m.mesh()
+
+
 def test_arrays_accept_lists_and_other_dtypes() -> None:
     m = neuromesh_rs.Morphology.from_arrays(
         [1, 2, 3], [1, 3, 3], [[0, 0, 0], [5, 0, 0], [10, 0, 0]], [2, 1, 1], [-1, 1, 2]

@@ -387,6 +387,22 @@ mod tests {
     }
 
     #[test]
+    fn nan_radii_in_arrays_are_missing() {
+        let m = Morphology::from_arrays(
+            &[1, 2, 3],
+            &[1, 3, 3],
+            &[[0.0; 3], [10.0, 0.0, 0.0], [20.0, 0.0, 0.0]],
+            &[5.0, f64::NAN, 1.0],
+            &[-1, 1, 2],
+        )
+        .unwrap();
+        // The radius of a neighbour one hop away (the soma's or the tip's).
+        assert!([5.0, 1.0].contains(&m.radii()[1]), "{}", m.radii()[1]);
+        assert_eq!(m.cleaning().radii_from_neighbours, 1);
+        assert!(Morphology::from_arrays(&[1], &[1], &[[0.0; 3]], &[f64::INFINITY], &[-1]).is_err());
+    }
+
+    #[test]
     fn a_placeholder_soma_radius_uses_neighbours() {
         let m = morph("1 1 0 0 0 1e-30 -1\n2 3 10 0 0 2 1\n3 3 20 0 0 1 2\n").unwrap();
         assert_eq!(m.radii()[0], 3.0);

@@ -34,8 +34,9 @@ impl Morphology {
     }
 
     /// Builds the morphology from columns (navis, NeuroM and MorphIO users have
-    /// these already). `parents` holds parent *ids*, negative for roots. Errors
-    /// name `<arrays>` and the 1-based row.
+    /// these already). `parents` holds parent *ids*, negative for roots; a NaN
+    /// radius is missing and filled as a zero one is. Errors name `<arrays>` and
+    /// the 1-based row.
     ///
     /// # Errors
     /// [`Error::Swc`] when the columns differ in length, a value is not finite, an
@@ -70,11 +71,14 @@ impl Morphology {
         let mut seen = HashMap::with_capacity(n);
         for i in 0..n {
             let line = i + 1;
-            if xyz[i].iter().any(|v| !v.is_finite()) || !radii[i].is_finite() {
+            // A NaN radius is a missing one (navis writes NaN where a trace
+            // has no radii) and is filled like a zero; an infinite one is an
+            // error.
+            if xyz[i].iter().any(|v| !v.is_finite()) || radii[i].is_infinite() {
                 return Err(Error::swc(
                     NAME,
                     line,
-                    "coordinates and radius must be finite",
+                    "coordinates must be finite and the radius finite or NaN (missing)",
                 ));
             }
             if ids[i] < 0 {
