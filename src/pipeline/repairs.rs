@@ -9,22 +9,15 @@
 
 use crate::input::morphology::Morphology;
 use crate::params::Params;
-use crate::skeleton::geometry::{RELATIVE_RADIUS_FLOOR, frame_origin_of};
+use crate::skeleton::geometry::radius_floor;
 
 /// The radii `params` raises to its floor: how many, the floor, and the
 /// largest factor by which one grows.
 pub fn raised_radii(morphology: &Morphology, params: &Params) -> (usize, f64, f64) {
-    let scale = params.scale;
-    let origin = frame_origin_of(morphology, scale);
-    let extent = morphology
-        .positions()
-        .iter()
-        .flat_map(|p| (0..3).map(move |k| (p[k] * scale - origin[k]).abs()))
-        .fold(0.0, f64::max);
-    let floor = params.min_radius.max(RELATIVE_RADIUS_FLOOR * extent);
+    let floor = radius_floor(morphology, params);
     let (mut count, mut factor) = (0usize, 1.0f64);
     for &r in morphology.radii() {
-        let r = r * scale;
+        let r = r * params.scale;
         if r < floor {
             count += 1;
             factor = factor.max(floor / r);
@@ -37,32 +30,30 @@ pub fn raised_radii(morphology: &Morphology, params: &Params) -> (usize, f64, f6
 /// each with how many samples and by how much.
 pub fn repairs(morphology: &Morphology, params: &Params) -> Vec<String> {
     let c = morphology.cleaning();
-    let mut out = Vec::new();
-    if c.duplicates_merged > 0 {
-        out.push(format!(
-            "{} samples at their parent's position merged into it",
-            c.duplicates_merged
-        ));
-    }
-    if c.radii_from_neighbours > 0 {
-        out.push(format!(
-            "{} zero, negative or missing radii took the nearest valid radius",
-            c.radii_from_neighbours
-        ));
-    }
-    if c.radii_from_default > 0 {
-        out.push(format!(
-            "{} radii set to a quarter of the median segment length (no valid radius in their tree)",
-            c.radii_from_default
-        ));
-    }
-    if c.soma_radius_fallbacks > 0 {
-        out.push(format!(
-            "{} soma radii (missing, or a thousand times thinner than a neighbour) set to 1.5 times \
+    let cleaned = [
+        (
+            c.duplicates_merged,
+            "samples at their parent's position merged into it",
+        ),
+        (
+            c.radii_from_neighbours,
+            "zero, negative or missing radii took the nearest valid radius",
+        ),
+        (
+            c.radii_from_default,
+            "radii set to a quarter of the median segment length (no valid radius in their tree)",
+        ),
+        (
+            c.soma_radius_fallbacks,
+            "soma radii (missing, or a thousand times thinner than a neighbour) set to 1.5 times \
              the widest neighbour's",
-            c.soma_radius_fallbacks
-        ));
-    }
+        ),
+    ];
+    let mut out: Vec<String> = cleaned
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect();
     let (count, floor, factor) = raised_radii(morphology, params);
     if count > 0 {
         out.push(format!(

@@ -49,19 +49,19 @@ fn mesh_tuple(py: Python<'_>, mesh: Mesh) -> PyResult<MeshTuple<'_>> {
     Ok((vertices, faces, samples, stats, (ox, oy, oz)))
 }
 
+/// Issues a Python warning of `category` saying `text`.
+fn warn(py: Python<'_>, category: &Bound<'_, pyo3::types::PyType>, text: String) -> PyResult<()> {
+    let message = std::ffi::CString::new(text).map_err(|e| MeshError::new_err(e.to_string()))?;
+    PyErr::warn(py, category, &message, 1)
+}
+
 /// Issues a `UserWarning` for each of `lines` (what meshing changed in the
 /// geometry of `morphology`, or why its radii look implausible), prefixed by
 /// its name: what `neuromesh mesh` prints as warnings on stderr.
 pub(super) fn warn_lines(py: Python<'_>, name: &str, lines: &[String]) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
     for line in lines {
-        let message = std::ffi::CString::new(format!("{name}: {line}"))
-            .map_err(|e| MeshError::new_err(e.to_string()))?;
-        PyErr::warn(
-            py,
-            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-            &message,
-            1,
-        )?;
+        warn(py, &category, format!("{name}: {line}"))?;
     }
     Ok(())
 }
@@ -85,14 +85,10 @@ pub(super) fn geometry_warnings(
 pub(super) fn python_mesh(py: Python<'_>, mesh: Mesh) -> PyResult<Bound<'_, PyAny>> {
     let defects = py.detach(|| mesh.quick_defects());
     if !defects.is_empty() {
-        let message =
-            std::ffi::CString::new(format!("the mesh is not sound: {}", defects.join(", ")))
-                .map_err(|e| MeshError::new_err(e.to_string()))?;
-        PyErr::warn(
+        warn(
             py,
             &py.get_type::<pyo3::exceptions::PyRuntimeWarning>(),
-            &message,
-            1,
+            format!("the mesh is not sound: {}", defects.join(", ")),
         )?;
     }
     let parts = mesh_tuple(py, mesh)?;

@@ -41,8 +41,28 @@ impl Geometry {
             .iter()
             .map(|p| p.abs().max_element())
             .fold(0.0, f64::max);
-        let floor = params.min_radius.max(RELATIVE_RADIUS_FLOOR * extent);
+        let floor = floor_at(extent, params.min_radius);
         let radius = m.radii().iter().map(|&r| r.max(floor)).collect();
         Geometry { pos, radius }
     }
+}
+
+/// The radius floor for a cell whose largest coordinate, in the frame it is
+/// built in, is `extent`: `max(min_radius, 1e-5 × extent)`.
+pub fn floor_at(extent: f64, min_radius: f64) -> f64 {
+    min_radius.max(RELATIVE_RADIUS_FLOOR * extent)
+}
+
+/// The radius floor [`Geometry::new`] applies to `morphology` meshed with
+/// `params` (scaled, and built around [`frame_origin_of`]), found without
+/// building the frame: for the checks made before meshing.
+pub fn radius_floor(morphology: &Morphology, params: &Params) -> f64 {
+    let scale = params.scale;
+    let origin = frame_origin_of(morphology, scale);
+    let extent = morphology
+        .positions()
+        .iter()
+        .flat_map(|p| (0..3).map(move |k| (p[k] * scale - origin[k]).abs()))
+        .fold(0.0, f64::max);
+    floor_at(extent, params.min_radius)
 }
