@@ -25,6 +25,53 @@ pub struct Outcome<T> {
     pub seconds: f64,
 }
 
+/// What meshing one file into another gave ([`mesh_file`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Written {
+    /// Samples of the morphology (after cleaning).
+    pub samples: usize,
+    /// Triangles written.
+    pub triangles: usize,
+    /// Surface area of the mesh written.
+    pub area: f64,
+    /// Enclosed volume of the mesh written.
+    pub volume: f64,
+    /// Why the mesh is not sound ([`crate::Mesh::quick_defects`]); empty when
+    /// it is.
+    pub defects: Vec<String>,
+    /// What meshing changed in the file's geometry ([`crate::repairs`]) and
+    /// why its radii look implausible, one line each.
+    pub warnings: Vec<String>,
+}
+
+/// Reads `input`, meshes it with `params` and writes the mesh to `output` as
+/// `format` (whole or not at all: [`crate::io::write_as`]): one file of a
+/// batch, here or on a cluster's worker.
+///
+/// # Errors
+/// What reading ([`crate::Morphology::from_swc`]), meshing
+/// ([`crate::mesh_morphology`]) or writing gives.
+pub fn mesh_file(
+    input: &Path,
+    output: &Path,
+    format: crate::io::Format,
+    params: &crate::Params,
+) -> Result<Written> {
+    let morphology = crate::Morphology::from_swc(input)?;
+    let mut warnings: Vec<String> = morphology.radius_warning().into_iter().collect();
+    warnings.extend(crate::repairs(&morphology, params));
+    let mesh = crate::mesh_morphology(&morphology, params)?;
+    crate::io::write_as(output, &mesh, format)?;
+    Ok(Written {
+        samples: morphology.len(),
+        triangles: mesh.faces.len(),
+        area: mesh.area(),
+        volume: mesh.volume(),
+        defects: mesh.quick_defects(),
+        warnings,
+    })
+}
+
 /// Runs `job` on every input with `threads` workers (all cores when `None`),
 /// calling `progress(done, outcome)` as each file finishes (from the worker
 /// threads, in completion order). Returns the outcomes in input order.
@@ -65,7 +112,7 @@ pub fn run<T: Send>(
         loop {
             let k = next.fetch_add(1, Ordering::Relaxed);
             let Some(&i) = order.get(k) else { break };
-            let outcome = one(&inputs[i], &job);
+            let outcome = run_one(&inputs[i], &job);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, &outcome);
             *slots[i]
                 .lock()
@@ -95,7 +142,9 @@ pub fn run<T: Send>(
 }
 
 /// One file, with a panic turned into the file's error.
-fn one<T>(input: &Path, job: &(impl Fn(&Path) -> Result<T> + Sync)) -> Outcome<T> {
+/// Runs `job` on `input`, timed, a panic caught as that file's
+/// [`Error::Internal`]: one file of [`run`], or of a cluster's task.
+pub fn run_one<T>(input: &Path, job: &(impl Fn(&Path) -> Result<T> + Sync)) -> Outcome<T> {
     let start = Instant::now();
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(input)))
         .unwrap_or_else(|panic| {

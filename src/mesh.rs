@@ -52,6 +52,17 @@ pub struct BuildStats {
     /// overlap pass could not take the fillers and the cell was meshed
     /// without them.
     pub fillers: u32,
+    /// Samples merged into their parent, at the same position, while the
+    /// file was cleaned ([`crate::repairs`] says each change in words).
+    pub samples_merged: u32,
+    /// Zero, negative, NaN or missing radii filled while cleaning.
+    pub radii_filled: u32,
+    /// Soma radii replaced (missing, or a thousand times thinner than the
+    /// widest neighbour).
+    pub soma_radii_replaced: u32,
+    /// Radii raised to the radius floor (`min_radius`, and never below
+    /// 1e-5 of the longest side of the cell's box).
+    pub radii_raised: u32,
 }
 
 /// A triangle mesh. Faces wind counter-clockwise seen from outside.

@@ -60,9 +60,9 @@ macro_rules! with_params {
             /// Smallest radius used, in output units (0 = automatic).
             ///
             /// Radii below it are raised to it. Whatever its value, radii
-            /// are never below 1e-5 × the largest coordinate (measured from
-            /// the point a cell far from the origin is built around), so the
-            /// f32 output keeps contours distinct.
+            /// are never below 1e-5 × the longest side of the cell's box
+            /// (wherever the cell lies), so the f32 output keeps contours
+            /// distinct; every raised radius is reported.
             min_radius: f64 = 0.0 => DEFAULT_MIN_RADIUS, with_min_radius;
 
             /// Factor applied to coordinates and radii (unit conversion).

@@ -199,7 +199,13 @@ class Mesh:
 
     @property
     def stats(self) -> dict[str, int]:
-        """How the mesh was built: branches, skipped contours, junctions by method, crossing pairs of parts found and left after the union."""
+        """How the mesh was built and what was changed in its input.
+
+        Branches, skipped contours, junctions by method, crossing pairs of
+        parts found and left after the union, fillers; and the changes to
+        the geometry the file gives: ``samples_merged``, ``radii_filled``,
+        ``soma_radii_replaced``, ``radii_raised`` (to the radius floor).
+        """
         return dict(self._stats)
 
     @property

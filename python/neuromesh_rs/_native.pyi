@@ -11,17 +11,22 @@ from ._mesh import Mesh
 
 __all__ = [
     "DEFAULTS",
+    "FORMATS",
     "PARAM_NAMES",
     "MeshError",
     "MeshFileError",
     "Morphology",
     "SwcError",
     "__version__",
+    "_check_params",
+    "_expand_inputs",
     "_mesh_area",
+    "_mesh_file",
     "_mesh_check",
     "_mesh_save",
     "_frame_origin",
     "_mesh_volume",
+    "_output_paths",
     "load_mesh",
     "mesh_many",
     "mesh_swc",
@@ -30,6 +35,7 @@ __all__ = [
 __version__: str
 PARAM_NAMES: list[str]
 DEFAULTS: dict[str, float | int]
+FORMATS: list[str]
 
 class SwcError(ValueError):
     """A malformed SWC file or array input; ``path`` and ``line`` say where."""
@@ -175,6 +181,41 @@ def mesh_many(
     """Meshes many SWC files in parallel, detached from the interpreter; the
     results come back in input order, a failed file as its exception."""
 
+def _mesh_file(
+    input: str | os.PathLike[str],
+    output: str | os.PathLike[str],
+    *,
+    threads: int = 1,
+    # params:begin
+    angle_threshold: float = 10.0,
+    k1: int = 1,
+    min_vertices: int = 12,
+    max_vertices: int = 64,
+    cap_rings: int = 3,
+    resolution: float = 1.0,
+    min_radius: float = 0.0,
+    scale: float = 1.0,
+    face_limit: int = 100_000_000,
+    # params:end
+) -> dict[str, Any]: ...
+def _check_params(
+    *,
+    # params:begin
+    angle_threshold: float = 10.0,
+    k1: int = 1,
+    min_vertices: int = 12,
+    max_vertices: int = 64,
+    cap_rings: int = 3,
+    resolution: float = 1.0,
+    min_radius: float = 0.0,
+    scale: float = 1.0,
+    face_limit: int = 100_000_000,
+    # params:end
+) -> None: ...
+def _expand_inputs(inputs: Sequence[str | os.PathLike[str]]) -> list[str]: ...
+def _output_paths(
+    inputs: Sequence[str | os.PathLike[str]], out_dir: str | os.PathLike[str], ext: str
+) -> list[tuple[str | None, str | None]]: ...
 def load_mesh(path: str | os.PathLike[str]) -> Mesh:
     """Reads an OBJ, PLY or STL file into a ``neuromesh_rs.Mesh``."""
 

@@ -37,6 +37,9 @@ pub enum Format {
 }
 
 impl Format {
+    /// Every format, in the order help texts list them.
+    pub const ALL: [Format; 3] = [Format::Obj, Format::Ply, Format::Stl];
+
     /// The format named by a path's extension (case-insensitive).
     ///
     /// # Errors

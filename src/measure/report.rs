@@ -122,7 +122,8 @@ impl MeshReport {
                 "\"build\":{{\"branches\":{},\"branches_hidden\":{},\"contours_skipped\":{},",
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
                 "\"junctions_detached\":{},\"soma_trunks\":{},\"overlap_pairs\":{},",
-                "\"overlap_pairs_left\":{},\"fillers\":{}}}}}"
+                "\"overlap_pairs_left\":{},\"fillers\":{},\"samples_merged\":{},",
+                "\"radii_filled\":{},\"soma_radii_replaced\":{},\"radii_raised\":{}}}}}"
             ),
             self.vertices,
             self.faces,
@@ -170,6 +171,10 @@ impl MeshReport {
             s.overlap_pairs,
             s.overlap_pairs_left,
             s.fillers,
+            s.samples_merged,
+            s.radii_filled,
+            s.soma_radii_replaced,
+            s.radii_raised,
         )
     }
 }
@@ -242,12 +247,22 @@ impl std::fmt::Display for MeshReport {
         if let Some(a) = self.soma_area {
             writeln!(f, "soma area             {a:.6}")?;
         }
+        if self.skeleton.is_some() {
+            writeln!(
+                f,
+                "input changed         {} samples merged, {} radii filled, {} soma radii replaced, {} radii raised to the floor",
+                self.stats.samples_merged,
+                self.stats.radii_filled,
+                self.stats.soma_radii_replaced,
+                self.stats.radii_raised
+            )?;
+        }
         if let Some(k) = self.skeleton {
             let rel = |a: f64, b: f64| 100.0 * (a / b - 1.0);
             if let Some(u) = k.union {
                 writeln!(
                     f,
-                    "union of round cones  area {:.6} (mesh {:+.2} %), volume {:.6} (mesh {:+.2} %)",
+                    "union of round cones  area {:.6} (mesh {:+.2} %), volume {:.6} (mesh {:+.2} %); radii before the floor",
                     u.area,
                     rel(self.area, u.area),
                     u.volume,

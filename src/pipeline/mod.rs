@@ -49,13 +49,17 @@ pub fn mesh_morphology(morphology: &Morphology, params: &Params) -> Result<Mesh>
     // A union of round cones that is one star-shaped blob (radius codes
     // swelling every sphere past the cell) is meshed whole ([`crate::build::star_hull`]).
     let origin = frame_origin_of(morphology, params.scale);
-    if let Some(mut mesh) = star_hull::mesh(morphology, params.scale, origin) {
-        mesh.origin = origin;
-        return Ok(mesh);
-    }
-    unite(
-        morphology,
-        params,
-        construct(morphology, params, FIRST_REACH)?,
-    )
+    let mut mesh = match star_hull::mesh(morphology, params.scale, origin) {
+        Some(mut mesh) => {
+            mesh.origin = origin;
+            mesh
+        }
+        None => unite(
+            morphology,
+            params,
+            construct(morphology, params, FIRST_REACH)?,
+        )?,
+    };
+    repairs::count(morphology, params, &mut mesh.stats);
+    Ok(mesh)
 }

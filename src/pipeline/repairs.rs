@@ -8,6 +8,7 @@
 //! stderr, Python gives them as `UserWarning`s, and `info` counts them.
 
 use crate::input::morphology::Morphology;
+use crate::mesh::BuildStats;
 use crate::params::Params;
 use crate::skeleton::geometry::radius_floor;
 
@@ -24,6 +25,15 @@ pub fn raised_radii(morphology: &Morphology, params: &Params) -> (usize, f64, f6
         }
     }
     (count, floor, factor)
+}
+
+/// Counts every change to `morphology`'s geometry into a mesh's `stats`.
+pub fn count(morphology: &Morphology, params: &Params, stats: &mut BuildStats) {
+    let c = morphology.cleaning();
+    stats.samples_merged = c.duplicates_merged;
+    stats.radii_filled = c.radii_from_neighbours + c.radii_from_default;
+    stats.soma_radii_replaced = c.soma_radius_fallbacks;
+    stats.radii_raised = u32::try_from(raised_radii(morphology, params).0).unwrap_or(u32::MAX);
 }
 
 /// One line per change made to `morphology`'s geometry (empty when none),
@@ -58,7 +68,7 @@ pub fn repairs(morphology: &Morphology, params: &Params) -> Vec<String> {
     if count > 0 {
         out.push(format!(
             "{count} radii raised to the floor {floor:.4e} (output units; the larger of \
-             --min-radius and 1e-5 of the cell's extent, which keeps the f32 output's contours \
+             --min-radius and 1e-5 of the longest side of the cell's box, which keeps the f32 output's contours \
              distinct), by up to {factor:.3} times"
         ));
     }
@@ -84,7 +94,7 @@ mod tests {
     fn every_repair_is_said_with_its_count() {
         // A zero radius, a duplicate point, and a radius far below the floor
         // of a cell 100,000 long.
-        let m = morph("1 1 0 0 0 5 -1\n2 3 10 0 0 0 1\n3 3 10 0 0 1 2\n4 3 100000 0 0 0.001 3\n");
+        let m = morph("1 1 0 0 0 5 -1\n2 3 10 0 0 0 1\n3 3 10 0 0 2 2\n4 3 100000 0 0 0.001 3\n");
         let said = repairs(&m, &Params::default()).join("\n");
         assert!(
             said.contains("1 samples at their parent's position"),
@@ -93,12 +103,39 @@ mod tests {
         assert!(said.contains("radii raised to the floor"), "{said}");
         let (count, floor, factor) = raised_radii(&m, &Params::default());
         assert_eq!(count, 1);
-        // 1e-5 of the extent from the frame's origin: the cell's middle or
-        // the coordinates' origin, whichever the frame is built around.
-        assert!((0.5..=1.0).contains(&floor), "{floor}");
+        // 1e-5 of the box's longest side: from the soma's 5 before the
+        // origin to 100,000 and the last radius.
+        assert!((floor - 1.000_050_01).abs() < 1e-9, "{floor}");
         assert!((factor - floor / 0.001).abs() < 1e-6, "{factor}");
         // A floor of the user's own, far above, counts every radius.
         let p = Params::default().with_min_radius(10.0);
         assert_eq!(raised_radii(&m, &p).0, m.len());
+    }
+
+    #[test]
+    fn the_floor_does_not_depend_on_where_the_cell_lies() {
+        let line = |x0: f64| {
+            let text: String = (0..50)
+                .map(|i| {
+                    let parent = if i == 0 { -1 } else { i };
+                    format!(
+                        "{} 3 {} 7 0 0.001 {parent}\n",
+                        i + 1,
+                        x0 + 2000.0 * i as f64
+                    )
+                })
+                .collect();
+            raised_radii(&morph(&text), &Params::default())
+        };
+        let here = line(0.0);
+        assert_eq!(here.0, 50);
+        for x0 in [-49_000.0, 3.0e5, 7.7e7] {
+            let there = line(x0);
+            assert_eq!(there.0, here.0);
+            assert!(
+                (there.1 - here.1).abs() <= 1e-12 * here.1,
+                "{x0}: {there:?} {here:?}"
+            );
+        }
     }
 }

@@ -30,6 +30,10 @@ fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDic
     d.set_item("overlap_pairs", s.overlap_pairs)?;
     d.set_item("overlap_pairs_left", s.overlap_pairs_left)?;
     d.set_item("fillers", s.fillers)?;
+    d.set_item("samples_merged", s.samples_merged)?;
+    d.set_item("radii_filled", s.radii_filled)?;
+    d.set_item("soma_radii_replaced", s.soma_radii_replaced)?;
+    d.set_item("radii_raised", s.radii_raised)?;
     Ok(d)
 }
 

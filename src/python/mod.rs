@@ -13,6 +13,7 @@
 // The docstrings are numpy style, read by Python, not Markdown.
 #![allow(rustdoc::invalid_rust_codeblocks)]
 
+mod batch;
 mod convert;
 mod mesh;
 mod morphology;
@@ -81,11 +82,15 @@ pub(crate) fn to_py(e: Error) -> PyErr {
 #[pyo3(name = "_native")]
 mod native {
     #[pymodule_export]
+    use super::batch::{expand_inputs_py, output_paths_py};
+    #[pymodule_export]
     use super::mesh::{
         frame_origin_py, load_mesh_py, mesh_area_py, mesh_check_py, mesh_save_py, mesh_volume_py,
     };
     #[pymodule_export]
-    use super::morphology::{PyMorphology, mesh_many_py, mesh_swc_py};
+    use super::morphology::{
+        PyMorphology, check_params_py, mesh_file_py, mesh_many_py, mesh_swc_py,
+    };
     #[pymodule_export]
     use super::{MeshError, MeshFileError, SwcError};
 
@@ -95,6 +100,10 @@ mod native {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         m.add("PARAM_NAMES", crate::params::PARAM_NAMES.to_vec())?;
         m.add("DEFAULTS", super::morphology::defaults(m.py())?)?;
+        let formats: Vec<&str> = crate::io::Format::ALL
+            .map(crate::io::Format::extension)
+            .to_vec();
+        m.add("FORMATS", formats)?;
         Ok(())
     }
 }

@@ -185,6 +185,55 @@ macro_rules! with_mesh_functions {
             python_mesh(py, mesh)
         }
 
+        /// Reads the SWC file ``input``, meshes it and writes the mesh to
+        /// ``output`` (the format from its extension), detached from the
+        /// interpreter; returns what ``neuromesh batch`` records of a file:
+        /// ``samples``, ``triangles``, ``area``, ``volume``, ``defects`` (why
+        /// the mesh is not sound, empty when it is) and ``warnings`` (what
+        /// meshing changed in the file's geometry). Nothing is warned: the
+        /// caller reports them (``neuromesh_rs.distributed``). Runs on
+        /// ``threads`` threads (1: a cluster's worker thread is one core);
+        /// a panic is a ``MeshError``, and ``seconds`` gives the time taken.
+        #[pyfunction(name = "_mesh_file")]
+        #[pyo3(signature = (input, output, *, threads = 1, $($name = $default),*))]
+        pub(super) fn mesh_file_py<'py>(
+            py: Python<'py>,
+            input: PathBuf,
+            output: PathBuf,
+            threads: usize,
+            $($name: $ty),*
+        ) -> PyResult<Bound<'py, PyDict>> {
+            let params = Params { $($name),* };
+            let outcome = py
+                .detach(|| {
+                    params.validate()?;
+                    let format = crate::io::Format::from_path(&output)?;
+                    crate::kernel::parallel::with_threads(Some(threads), || {
+                        crate::batch::run_one(&input, &|input| {
+                            crate::batch::mesh_file(input, &output, format, &params)
+                        })
+                    })
+                })
+                .map_err(to_py)?;
+            let w = outcome.result.map_err(to_py)?;
+            let d = PyDict::new(py);
+            d.set_item("seconds", outcome.seconds)?;
+            d.set_item("samples", w.samples)?;
+            d.set_item("triangles", w.triangles)?;
+            d.set_item("area", w.area)?;
+            d.set_item("volume", w.volume)?;
+            d.set_item("defects", w.defects)?;
+            d.set_item("warnings", w.warnings)?;
+            Ok(d)
+        }
+
+        /// Raises the error ``mesh_swc`` would for these parameters, if any.
+        #[pyfunction(name = "_check_params")]
+        #[pyo3(signature = (*, $($name = $default),*))]
+        pub(super) fn check_params_py($($name: $ty),*) -> PyResult<()> {
+            Params { $($name),* }.validate().map_err(to_py)
+        }
+
         #[doc = concat!(
             "Meshes many SWC files in parallel, detached from the interpreter; the\n",
             "results come back in input order.\n\n",

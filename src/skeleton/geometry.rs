@@ -1,15 +1,19 @@
 //! The frame a cell is built in: its samples as vectors, scaled, moved near
 //! the origin when the cell lies far from it, and with radii raised to a
 //! floor that keeps the f32 output's contours distinct.
+//!
+//! The floor follows the cell's size, not its place: `1e-5` of the longest
+//! side of the box of its spheres. The frame keeps every coordinate within
+//! 1.5 sides of its origin ([`crate::mesh::frame_origin`]), so a contour of
+//! floor radius still spans dozens of f32 steps wherever the cell lies.
 
 use glam::DVec3;
 
 use crate::input::morphology::Morphology;
 use crate::params::Params;
 
-/// Radii are never below this fraction of the largest coordinate (in the
-/// frame the cell is built in, [`crate::mesh::frame_origin`]), so the f32
-/// output keeps a contour's vertices distinct.
+/// Radii are never below this fraction of the longest side of the cell's
+/// box, so the f32 output keeps a contour's vertices distinct.
 pub const RELATIVE_RADIUS_FLOOR: f64 = 1e-5;
 
 /// The point a morphology scaled by `scale` is built around
@@ -30,39 +34,35 @@ pub struct Geometry {
 
 impl Geometry {
     /// Positions as vectors and radii raised to the floor
-    /// `max(min_radius, 1e-5 × largest coordinate)`.
+    /// `max(min_radius, 1e-5 × the longest side of the box)` of `m`, a
+    /// morphology already scaled.
     pub fn new(m: &Morphology, params: &Params) -> Geometry {
         let pos: Vec<DVec3> = m
             .positions()
             .iter()
             .map(|p| DVec3::from_array(*p))
             .collect();
-        let extent = pos
-            .iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0, f64::max);
-        let floor = floor_at(extent, params.min_radius);
+        let floor = floor_at(longest_side(m, 1.0), params.min_radius);
         let radius = m.radii().iter().map(|&r| r.max(floor)).collect();
         Geometry { pos, radius }
     }
 }
 
-/// The radius floor for a cell whose largest coordinate, in the frame it is
-/// built in, is `extent`: `max(min_radius, 1e-5 × extent)`.
-pub fn floor_at(extent: f64, min_radius: f64) -> f64 {
-    min_radius.max(RELATIVE_RADIUS_FLOOR * extent)
+/// The radius floor for a cell whose box's longest side is `side`:
+/// `max(min_radius, 1e-5 × side)`.
+pub fn floor_at(side: f64, min_radius: f64) -> f64 {
+    min_radius.max(RELATIVE_RADIUS_FLOOR * side)
+}
+
+/// The longest side of the box of `morphology`'s spheres scaled by `scale`.
+fn longest_side(morphology: &Morphology, scale: f64) -> f64 {
+    let (lo, hi) = morphology.bounds();
+    (0..3).map(|a| (hi[a] - lo[a]) * scale).fold(0.0, f64::max)
 }
 
 /// The radius floor [`Geometry::new`] applies to `morphology` meshed with
-/// `params` (scaled, and built around [`frame_origin_of`]), found without
-/// building the frame: for the checks made before meshing.
+/// `params`, found without building the frame: for the checks made before
+/// meshing.
 pub fn radius_floor(morphology: &Morphology, params: &Params) -> f64 {
-    let scale = params.scale;
-    let origin = frame_origin_of(morphology, scale);
-    let extent = morphology
-        .positions()
-        .iter()
-        .flat_map(|p| (0..3).map(move |k| (p[k] * scale - origin[k]).abs()))
-        .fold(0.0, f64::max);
-    floor_at(extent, params.min_radius)
+    floor_at(longest_side(morphology, params.scale), params.min_radius)
 }

@@ -11,15 +11,6 @@ use neuromesh::{Error, Params, batch, io};
 
 use crate::ledger::{self, Row, Status};
 
-/// What one successful file gave.
-struct Written {
-    triangles: usize,
-    /// Why the mesh is not sound ([`neuromesh::Mesh::quick_defects`]).
-    defects: Vec<String>,
-    /// What meshing changed in the file's geometry, and implausible radii.
-    warnings: Vec<String>,
-}
-
 /// How a batch runs, as its flags say.
 pub struct Options<'a> {
     pub out_dir: &'a Path,
@@ -91,16 +82,7 @@ pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<Ex
                     name: "inputs",
                     reason: reason.clone(),
                 })?;
-            let morphology = neuromesh::Morphology::from_swc(input)?;
-            let mut warnings: Vec<String> = morphology.radius_warning().into_iter().collect();
-            warnings.extend(neuromesh::repairs(&morphology, params));
-            let mesh = neuromesh::mesh_morphology(&morphology, params)?;
-            io::write_as(output, &mesh, format)?;
-            Ok(Written {
-                triangles: mesh.faces.len(),
-                defects: mesh.quick_defects(),
-                warnings,
-            })
+            batch::mesh_file(input, output, format, params)
         },
         |done, outcome| {
             // Said and recorded as they happen: a batch stopped halfway has
