@@ -281,11 +281,22 @@ def mesh_corpus(
         else:
             todo.append(i)
     if todo:
+        # Largest first, as `neuromesh batch` does: a big cell started last
+        # would leave the other workers idle at the end.
+        todo.sort(key=lambda i: -_size(files[i]))
         _make_folder(out)
         outputs = [str(targets[i][0]) for i in todo]
         for i, row in zip(todo, _run(client, [files[i] for i in todo], outputs, params, progress)):
             rows[i] = row
     return pandas.DataFrame([r for r in rows if r is not None], columns=list(COLUMNS))
+
+
+def _size(path: str) -> int:
+    """A local file's size (0 for a URL: asking a remote store costs a request per file)."""
+    try:
+        return 0 if _is_url(path) else os.path.getsize(_local(path))
+    except OSError:
+        return 0
 
 
 def _make_folder(out: str) -> None:
