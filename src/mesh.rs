@@ -52,8 +52,9 @@ pub struct BuildStats {
     /// overlap pass could not take the fillers and the cell was meshed
     /// without them.
     pub fillers: u32,
-    /// Samples merged into their parent, at the same position, while the
-    /// file was cleaned ([`crate::repairs`] says each change in words).
+    /// Samples merged while the file was cleaned: into their parent, at the
+    /// same position, or into a sample they repeat ([`crate::repairs`] says
+    /// each change in words).
     pub samples_merged: u32,
     /// Zero, negative, NaN or missing radii filled while cleaning.
     pub radii_filled: u32,

@@ -27,7 +27,14 @@ fn every_real_file_reads_and_matches_its_manifest_row() {
                 .strip_suffix(" roots")
                 .and_then(|n| n.trim().parse::<usize>().ok())
         }) {
-            assert_eq!(m.trees().len(), n, "{}", row.file);
+            // Roots at the very same place (fragments of one cell) are one.
+            let copies = m.cleaning().copies_merged as usize;
+            assert!(
+                m.trees().len() <= n && m.trees().len() + copies >= n,
+                "{}: {} trees, {n} roots, {copies} copies merged",
+                row.file,
+                m.trees().len()
+            );
         }
         // Every radius is usable after cleaning, and every sample is in the order.
         assert!(

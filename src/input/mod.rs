@@ -4,6 +4,8 @@
 //! plausibility of its radii ([`plausibility`]). SWC ids stop here: every
 //! later stage uses dense sample indices.
 pub mod morphology;
+#[cfg(any(test, feature = "internals"))]
+pub mod mutate;
 pub mod plausibility;
 pub mod swc;
 #[cfg(any(test, feature = "internals"))]

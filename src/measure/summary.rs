@@ -128,7 +128,7 @@ impl Summary {
                 "\"soma_trunks\":{},\"types\":{{{}}},\"branch_points\":{{{}}},\"tips\":{},",
                 "\"cable_length\":{},\"radius_min\":{},\"radius_max\":{},",
                 "\"bbox\":[[{},{},{}],[{},{},{}]],\"comment_lines\":{},",
-                "\"cleaning\":{{\"duplicates_merged\":{},\"zero_radii\":{},\"negative_radii\":{},",
+                "\"cleaning\":{{\"duplicates_merged\":{},\"copies_merged\":{},\"zero_radii\":{},\"negative_radii\":{},",
                 "\"radii_from_neighbours\":{},\"radii_from_default\":{},\"soma_radius_fallbacks\":{}}},",
                 "\"measures\":{{\"soma_surface\":{},\"total_surface\":{},\"total_volume\":{},",
                 "\"union_area\":{},\"union_volume\":{}}}}}"
@@ -153,6 +153,7 @@ impl Summary {
             self.bbox.1[2],
             self.comment_lines,
             c.duplicates_merged,
+            c.copies_merged,
             c.zero_radii,
             c.negative_radii,
             c.radii_from_neighbours,
@@ -255,9 +256,10 @@ impl fmt::Display for Summary {
         let c = &self.cleaning;
         write!(
             f,
-            "cleaning        {} duplicate points merged; {} zero and {} negative radii replaced \
+            "cleaning        {} duplicate points and {} copies merged; {} zero and {} negative radii replaced \
              ({} from neighbours, {} from the default); {} soma radius fallbacks",
             c.duplicates_merged,
+            c.copies_merged,
             c.zero_radii,
             c.negative_radii,
             c.radii_from_neighbours,

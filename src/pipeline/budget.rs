@@ -90,6 +90,7 @@ pub fn estimate(morphology: &Morphology, params: &Params) -> Estimate {
 /// the limit and what would reduce it.
 pub fn check(morphology: &Morphology, params: &Params) -> Result<Estimate> {
     check_values(morphology, params.scale)?;
+    check_radius_unit(morphology, params)?;
     let e = estimate(morphology, params);
     let limit = f64::from(params.face_limit);
     if params.face_limit == 0 || e.faces <= limit || e.largest == NO_PARENT {
@@ -227,6 +228,45 @@ pub fn check_values(morphology: &Morphology, scale: f64) -> Result<()> {
     Ok(())
 }
 
+/// Most radii below this fraction of the cell's size (the longest side of
+/// its box) say that radii and coordinates are in different units: the
+/// radius floor ([`crate::skeleton::geometry::RELATIVE_RADIUS_FLOOR`], ten
+/// times this) would raise them all, by up to millions of times, into tubes
+/// that swallow each other. Real cells' radii are 1e-5 of their size and
+/// more (a 10 mm axon of 0.1 um).
+pub const THIN_RADIUS: f64 = 1e-6;
+
+/// Refuses a cell most of whose radii are below [`THIN_RADIUS`] of its size,
+/// unless `params.min_radius` raises them above it (the user's own floor).
+///
+/// # Errors
+/// [`Error::Swc`] at the line of the first such radius.
+pub fn check_radius_unit(morphology: &Morphology, params: &Params) -> Result<()> {
+    let (lo, hi) = morphology.bounds();
+    let side = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max) * params.scale;
+    let thin = THIN_RADIUS * side;
+    if params.min_radius >= thin {
+        return Ok(());
+    }
+    let radii = morphology.radii();
+    let is_thin = |r: f64| r * params.scale < thin;
+    let count = radii.iter().filter(|&&r| is_thin(r)).count();
+    if 2 * count <= radii.len() {
+        return Ok(());
+    }
+    let first = radii.iter().position(|&r| is_thin(r)).unwrap_or(0);
+    Err(Error::swc(
+        morphology.name(),
+        morphology.lines()[first] as usize,
+        format!(
+            "radius {:.3e} is under {THIN_RADIUS:.0e} of the cell's size ({:.3e}), as are {count}              of its {} radii: radii and coordinates in different units? (--scale scales both;              --min-radius sets a radius floor of your own)",
+            radii[first],
+            side / params.scale,
+            radii.len()
+        ),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -311,5 +351,37 @@ mod tests {
             why.contains(&format!("{} children", MAX_CHILDREN + 1)),
             "{why}"
         );
+    }
+
+    #[test]
+    fn radii_in_another_unit_than_the_coordinates_are_refused() {
+        // Coordinates a million times too large: radii 1e-6 of the size and less.
+        let scaled: String = dendrite(40, 0.5)
+            .lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(' ').collect();
+                let c = |k: usize| f[k].parse::<f64>().expect("number") * 1e6;
+                format!(
+                    "{} {} {} {} {} {} {}\n",
+                    f[0],
+                    f[1],
+                    c(2),
+                    c(3),
+                    c(4),
+                    f[5],
+                    f[6]
+                )
+            })
+            .collect();
+        let m = morph(&scaled);
+        let (line, why) = reason(&m, &Params::default());
+        assert_eq!(line, 1, "the soma's radius is the first thin one");
+        assert!(why.contains("different units"), "{why}");
+        // A floor of the user's own takes charge of the radii.
+        assert!(check(&m, &Params::default().with_min_radius(100.0)).is_ok());
+        // A few thin radii in a plausible cell are only floored.
+        let mut text = dendrite(40, 0.5);
+        text += "42 3 50 0 0 1e-9 41\n";
+        assert!(check(&morph(&text), &Params::default()).is_ok());
     }
 }

@@ -30,7 +30,7 @@ pub fn raised_radii(morphology: &Morphology, params: &Params) -> (usize, f64, f6
 /// Counts every change to `morphology`'s geometry into a mesh's `stats`.
 pub fn count(morphology: &Morphology, params: &Params, stats: &mut BuildStats) {
     let c = morphology.cleaning();
-    stats.samples_merged = c.duplicates_merged;
+    stats.samples_merged = c.duplicates_merged + c.copies_merged;
     stats.radii_filled = c.radii_from_neighbours + c.radii_from_default;
     stats.soma_radii_replaced = c.soma_radius_fallbacks;
     stats.radii_raised = u32::try_from(raised_radii(morphology, params).0).unwrap_or(u32::MAX);
@@ -44,6 +44,10 @@ pub fn repairs(morphology: &Morphology, params: &Params) -> Vec<String> {
         (
             c.duplicates_merged,
             "samples at their parent's position merged into it",
+        ),
+        (
+            c.copies_merged,
+            "samples that repeat another (same place, type and parent, or both roots) merged into it",
         ),
         (
             c.radii_from_neighbours,

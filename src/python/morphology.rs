@@ -426,6 +426,7 @@ with_params!(with_mesh_functions! {
         let c = self.inner.cleaning();
         let d = PyDict::new(py);
         d.set_item("duplicates_merged", c.duplicates_merged)?;
+        d.set_item("copies_merged", c.copies_merged)?;
         d.set_item("zero_radii", c.zero_radii)?;
         d.set_item("negative_radii", c.negative_radii)?;
         d.set_item("radii_from_neighbours", c.radii_from_neighbours)?;

@@ -137,6 +137,38 @@ fn merge_duplicates(samples: &[RawSample], parent: &[u32], cleaning: &mut Cleani
             cleaning.duplicates_merged += 1;
         }
     }
+    // Copies: a sample at exactly the place and of the type of another
+    // whose parent is (after merging) the same, or a root on another root
+    // (several fragments of one reconstruction each carrying the soma, or a
+    // cell written twice), is merged into the first; parents first, so a
+    // copied subtree collapses onto its original. Meshed apart, the two
+    // would be coincident surfaces, which no union can separate.
+    let mut first: HashMap<(u32, i32, [u64; 3]), u32> = HashMap::new();
+    for &i in &topological_order(parent) {
+        if merged_into[i as usize] != i {
+            continue;
+        }
+        let p = parent[i as usize];
+        let up = if p == NO_PARENT {
+            NO_PARENT
+        } else {
+            find(&mut merged_into, p)
+        };
+        let s = &samples[i as usize];
+        let key = (up, s.kind, s.pos.map(f64::to_bits));
+        match first.get(&key) {
+            Some(&j) if j != i => {
+                merged_into[i as usize] = j;
+                if radius[i as usize].is_finite() && radius[i as usize] > radius[j as usize] {
+                    radius[j as usize] = radius[i as usize];
+                }
+                cleaning.copies_merged += 1;
+            }
+            _ => {
+                first.insert(key, i);
+            }
+        }
+    }
     // Compact the survivors, keeping file order.
     let mut new_index = vec![NO_PARENT; n];
     let mut kept = Vec::with_capacity(n);

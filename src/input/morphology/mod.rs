@@ -93,6 +93,10 @@ pub struct Tree {
 pub struct Cleaning {
     /// Samples merged into their parent because they sat at the same position.
     pub duplicates_merged: u32,
+    /// Samples merged into an earlier one at exactly the same place, of the
+    /// same type and with the same parent (or both roots): a subtree or a
+    /// soma written twice.
+    pub copies_merged: u32,
     /// Zero radii replaced.
     pub zero_radii: u32,
     /// Negative (or non-finite) radii replaced.
@@ -360,6 +364,30 @@ mod tests {
         assert_eq!(m.cleaning().duplicates_merged, 2);
         assert_eq!(m.radii()[0], 2.0);
         assert_eq!(m.ids(), &[1, 3]);
+    }
+
+    #[test]
+    fn fragments_on_one_soma_and_copied_subtrees_become_one_tree() {
+        // Two fragments, each with the soma at the same place (the second a
+        // little wider), sharing their first neurite sample; the second goes
+        // on elsewhere.
+        let m = morph(
+            "1 1 0 0 0 5 -1\n2 3 10 0 0 1 1\n3 3 20 0 0 1 2\n\
+             11 1 0 0 0 6 -1\n12 3 10 0 0 1 11\n13 3 10 10 0 1 12\n",
+        )
+        .unwrap();
+        assert_eq!(m.trees().len(), 1);
+        assert_eq!(m.len(), 4);
+        assert_eq!(m.cleaning().copies_merged, 2);
+        assert_eq!(m.radii()[0], 6.0);
+        assert_eq!(m.ids(), &[1, 2, 3, 13]);
+        assert_eq!(m.children(1), &[2, 3]);
+        // The same place under different parents is not a copy.
+        let m =
+            morph("1 3 0 0 0 1 -1\n2 3 5 0 0 1 1\n3 3 0 5 0 1 1\n4 3 5 5 0 1 2\n5 3 5 5 0 1 3\n")
+                .unwrap();
+        assert_eq!(m.len(), 5);
+        assert_eq!(m.cleaning().copies_merged, 0);
     }
 
     #[test]
