@@ -62,6 +62,8 @@ mod pipeline;
 mod skeleton;
 
 pub mod batch;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod io;
 
 pub use error::{Error, Result, SwcError};

@@ -19,6 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["build", "overlap"],
     &["pipeline"],
     &["batch"],
+    &["cli"],
     &["python"],
 ];
 

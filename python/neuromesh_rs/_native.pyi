@@ -27,6 +27,7 @@ __all__ = [
     "_frame_origin",
     "_mesh_volume",
     "_output_paths",
+    "_run_cli",
     "load_mesh",
     "mesh_many",
     "mesh_swc",
@@ -216,6 +217,7 @@ def _expand_inputs(inputs: Sequence[str | os.PathLike[str]]) -> list[str]: ...
 def _output_paths(
     inputs: Sequence[str | os.PathLike[str]], out_dir: str | os.PathLike[str], ext: str
 ) -> list[tuple[str | None, str | None]]: ...
+def _run_cli(args: list[str], handle_signals: bool) -> int: ...
 def load_mesh(path: str | os.PathLike[str]) -> Mesh:
     """Reads an OBJ, PLY or STL file into a ``neuromesh_rs.Mesh``."""
 

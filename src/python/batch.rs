@@ -1,11 +1,21 @@
-//! The batch rules `neuromesh batch` follows, for `neuromesh_rs.distributed`:
-//! which files a list of inputs names, and where each one's mesh goes.
+//! The command line for the `neuromesh` console script (`neuromesh_rs._cli`),
+//! and the batch rules `neuromesh batch` follows, for
+//! `neuromesh_rs.distributed`: which files a list of inputs names, and where
+//! each one's mesh goes.
 
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
 
 use super::to_py;
+
+/// Runs the `neuromesh` command line `args` (the program's name first),
+/// detached from the interpreter, and gives its exit code
+/// ([`crate::cli::main`]).
+#[pyfunction(name = "_run_cli")]
+pub(super) fn run_cli_py(py: Python<'_>, args: Vec<String>, handle_signals: bool) -> u8 {
+    py.detach(|| crate::cli::main(args, handle_signals))
+}
 
 /// The SWC files `inputs` name, in order, without repeats: a file as is, a
 /// folder's `*.swc` files, a pattern's matches (`neuromesh batch`'s rules).

@@ -82,7 +82,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
 #[pyo3(name = "_native")]
 mod native {
     #[pymodule_export]
-    use super::batch::{expand_inputs_py, output_paths_py};
+    use super::batch::{expand_inputs_py, output_paths_py, run_cli_py};
     #[pymodule_export]
     use super::mesh::{
         frame_origin_py, load_mesh_py, mesh_area_py, mesh_check_py, mesh_save_py, mesh_volume_py,

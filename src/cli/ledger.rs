@@ -72,7 +72,7 @@ pub fn open(total: usize, csv: Option<PathBuf>, output: String, threads: usize) 
 /// What a signal does: removes the temporary files of the writes under way,
 /// and, in a batch, prints and writes what was done so far. The caller exits.
 pub fn interrupted() {
-    let removed = neuromesh::io::remove_unfinished();
+    let removed = crate::io::remove_unfinished();
     if let Some(ledger) = LEDGER.get() {
         eprintln!(
             "\ninterrupted: {removed} unfinished output{} removed",

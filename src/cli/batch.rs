@@ -1,15 +1,14 @@
 //! `neuromesh batch`: many files in parallel, a progress bar on a terminal, and
-//! a summary at the end ([`crate::ledger`]).
+//! a summary at the end ([`super::ledger`]).
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use neuromesh::{Error, Params, batch, io};
+use crate::{Error, Params, batch, io};
 
-use crate::ledger::{self, Row, Status};
+use super::ledger::{self, Row, Status};
 
 /// How a batch runs, as its flags say.
 pub struct Options<'a> {
@@ -25,7 +24,7 @@ pub struct Options<'a> {
     pub summary: Option<PathBuf>,
 }
 
-pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<ExitCode, Error> {
+pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<u8, Error> {
     params.validate()?;
     let format = io::Format::from_extension(opts.format).ok_or_else(|| Error::InvalidParam {
         name: "format",
@@ -144,12 +143,12 @@ pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<Ex
     }
     let (failed, unsound) = ledger.finish(false);
     if failed > 0 {
-        return Ok(ExitCode::from(1));
+        return Ok(1);
     }
     if unsound > 0 && !opts.allow_unsound {
-        return Ok(ExitCode::from(4));
+        return Ok(4);
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(0)
 }
 
 /// A one-line progress bar on standard error.

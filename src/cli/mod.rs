@@ -1,4 +1,6 @@
-//! The `neuromesh` command line: a thin translation of flags into library calls.
+//! The `neuromesh` command line: a thin translation of flags into library
+//! calls, run by the `neuromesh` binary and by the `neuromesh` command that
+//! `pip install` gives (`neuromesh_rs._cli`, through `_run_cli`).
 //!
 //! Exit codes: 0 on success, 1 with `error: FILE:LINE: reason` on stderr for bad
 //! input or a failed write (for `batch`: when any file failed, after meshing all
@@ -12,11 +14,10 @@ mod batch;
 mod ledger;
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
+use crate::{Error, Mesh, Morphology, Params, Summary, io};
 use clap::{Parser, Subcommand};
-use neuromesh::{Error, Mesh, Morphology, Params, Summary, io};
 
 #[derive(Parser)]
 #[command(
@@ -118,19 +119,36 @@ enum Cmd {
     },
 }
 
-fn main() -> ExitCode {
-    let cli = Cli::parse();
-    // SIGINT, SIGTERM or SIGHUP: no partial file is left, and a batch says
-    // what it did so far. 130 is the shell's code for a process stopped so.
-    let _ = ctrlc::set_handler(|| {
-        ledger::interrupted();
-        std::process::exit(130);
-    });
+/// Runs the command line `args` (the program's name first) and gives the
+/// exit code. Usage errors, `--help` and `--version` print as clap prints
+/// them and give their codes (2, 0) instead of ending the process, so a
+/// Python interpreter can call this. With `handle_signals`, SIGINT, SIGTERM
+/// and SIGHUP remove the unfinished outputs, print a batch's summary so far
+/// and end the process with 130 (for a process that is only this command).
+pub fn main<I, T>(args: I, handle_signals: bool) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return u8::try_from(e.exit_code()).unwrap_or(2);
+        }
+    };
+    if handle_signals {
+        // 130 is the shell's code for a process stopped so.
+        let _ = ctrlc::set_handler(|| {
+            ledger::interrupted();
+            std::process::exit(130);
+        });
+    }
     match run(cli.cmd) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(1)
+            1
         }
     }
 }
@@ -150,7 +168,7 @@ const ANNOUNCED: f64 = 10e6;
 /// Says on stderr, before meshing, when the mesh will be large, and what
 /// would make it smaller.
 fn announce_size(input: &std::path::Path, m: &Morphology, params: &Params) {
-    let e = neuromesh::estimate(m, params);
+    let e = crate::estimate(m, params);
     if e.faces > ANNOUNCED {
         eprintln!(
             "note: {}: about {:.0} M triangles expected (before straight stretches are \
@@ -162,14 +180,14 @@ fn announce_size(input: &std::path::Path, m: &Morphology, params: &Params) {
 }
 
 /// Says on stderr every change meshing makes to the file's geometry
-/// ([`neuromesh::repairs`]).
+/// ([`crate::repairs`]).
 fn warn_repairs(input: &std::path::Path, m: &Morphology, params: &Params) {
-    for change in neuromesh::repairs(m, params) {
+    for change in crate::repairs(m, params) {
         eprintln!("warning: {}: {change}", input.display());
     }
 }
 
-fn run(cmd: Cmd) -> Result<ExitCode, Error> {
+fn run(cmd: Cmd) -> Result<u8, Error> {
     match cmd {
         Cmd::Mesh {
             input,
@@ -185,7 +203,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             let morphology = Morphology::from_swc(&input)?;
             warn_radii(&input, &morphology);
             announce_size(&input, &morphology, &params);
-            let mesh: Mesh = neuromesh::mesh_morphology(&morphology, &params)?;
+            let mesh: Mesh = crate::mesh_morphology(&morphology, &params)?;
             warn_repairs(&input, &morphology, &params);
             let meshed = start.elapsed();
             io::write(&output, &mesh)?;
@@ -212,7 +230,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             };
             let defects = mesh.quick_defects();
             if sound && defects.is_empty() {
-                return Ok(ExitCode::SUCCESS);
+                return Ok(0);
             }
             eprintln!(
                 "{}: {}: the mesh written is not sound ({}){}",
@@ -229,11 +247,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
                     "; kept for inspection, --allow-unsound exits 0"
                 }
             );
-            Ok(if allow_unsound {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::from(4)
-            })
+            Ok(if allow_unsound { 0 } else { 4 })
         }
         Cmd::Batch {
             inputs,
@@ -271,7 +285,7 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
             } else {
                 println!("{s}");
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(0)
         }
         Cmd::Check {
             mesh,
@@ -300,9 +314,9 @@ fn run(cmd: Cmd) -> Result<ExitCode, Error> {
                 println!("{report}");
             }
             if strict && !report.is_valid() {
-                return Ok(ExitCode::from(3));
+                return Ok(3);
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(0)
         }
     }
 }
