@@ -46,7 +46,9 @@ pub struct Written {
 
 /// Reads `input`, meshes it with `params` and writes the mesh to `output` as
 /// `format` (whole or not at all: [`crate::io::write_as`]): one file of a
-/// batch, here or on a cluster's worker.
+/// batch, here or on a cluster's worker. With `strict`, a file whose parent
+/// links form cycles is refused instead of mended
+/// ([`crate::Morphology::refuse_cycles`]).
 ///
 /// # Errors
 /// What reading ([`crate::Morphology::from_swc`]), meshing
@@ -56,8 +58,12 @@ pub fn mesh_file(
     output: &Path,
     format: crate::io::Format,
     params: &crate::Params,
+    strict: bool,
 ) -> Result<Written> {
     let morphology = crate::Morphology::from_swc(input)?;
+    if strict {
+        morphology.refuse_cycles()?;
+    }
     let mut warnings: Vec<String> = morphology.radius_warning().into_iter().collect();
     warnings.extend(crate::repairs(&morphology, params));
     let mesh = crate::mesh_morphology(&morphology, params)?;

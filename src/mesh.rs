@@ -61,6 +61,8 @@ pub struct BuildStats {
     /// Soma radii replaced (missing, or a thousand times thinner than the
     /// widest neighbour).
     pub soma_radii_replaced: u32,
+    /// Cycles of parent links broken while cleaning.
+    pub cycles_broken: u32,
     /// Radii raised to the radius floor (`min_radius`, and never below
     /// 1e-5 of the longest side of the cell's box).
     pub radii_raised: u32,

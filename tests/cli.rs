@@ -83,7 +83,11 @@ fn malformed_input_exits_1_with_file_and_line() {
         let p = tmp(&format!("bad{i}.swc"));
         std::fs::write(&p, content).unwrap();
         let ps = p.to_str().unwrap();
-        for args in [vec!["info", ps], vec!["mesh", ps, "-o", "/dev/null/x.obj"]] {
+        // --strict refuses the parent cycle (case 5) that is otherwise broken.
+        for args in [
+            vec!["info", ps, "--strict"],
+            vec!["mesh", ps, "-o", "/dev/null/x.obj", "--strict"],
+        ] {
             let out = neuromesh(&args);
             assert_eq!(out.status.code(), Some(1), "case {i}: {args:?}");
             let err = text(&out.stderr);
@@ -95,6 +99,28 @@ fn malformed_input_exits_1_with_file_and_line() {
             assert_eq!(err.lines().count(), 1, "one line: {err}");
         }
     }
+}
+
+#[test]
+fn a_parent_cycle_is_broken_with_a_warning() {
+    let p = tmp("cycle.swc");
+    std::fs::write(
+        &p,
+        "1 1 0 0 0 2 -1\n2 3 3 0 0 1 1\n3 3 6 0 0 1 5\n4 3 9 0 0 1 3\n5 3 9 3 0 1 4\n",
+    )
+    .unwrap();
+    let ps = p.to_str().unwrap();
+    let o = tmp("cycle.ply");
+    let out = neuromesh(&["mesh", ps, "-o", o.to_str().unwrap(), "--check"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains(&format!("warning: {ps}: 1 cycles of parent links broken")),
+        "{err}"
+    );
+    assert!(text(&out.stdout).contains("1 cycles broken"));
+    let info = text(&neuromesh(&["info", ps]).stdout);
+    assert!(info.contains("1 parent cycles broken"), "{info}");
 }
 
 #[test]

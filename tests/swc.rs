@@ -93,7 +93,7 @@ fn swc_error(text: &[u8]) -> (usize, String) {
 
 #[test]
 fn each_malformed_input_names_its_line() {
-    let cases: [(&[u8], usize, &str); 8] = [
+    let cases: [(&[u8], usize, &str); 7] = [
         (b"# h\n1 1 0 0 0 1 -1\n2 3 1 0\n", 3, "expected 7 fields"),
         (b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n", 2, "z is not a number"),
         (b"1 1 0 0 0 nan -1\n", 1, "radius must be finite"),
@@ -102,11 +102,6 @@ fn each_malformed_input_names_its_line() {
             b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 5\n",
             2,
             "parent id 5 does not exist",
-        ),
-        (
-            b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 3\n3 3 1 0 0 1 2\n",
-            2,
-            "cycle",
         ),
         (b"", 1, "no samples"),
         (b"1 1 0 0 0 1 -1\n\x00\x01\x02binary", 2, "binary"),

@@ -17,6 +17,8 @@ pub struct Options<'a> {
     pub jobs: Option<usize>,
     pub quiet: bool,
     pub allow_unsound: bool,
+    /// Refuse files whose parent links form cycles instead of mending them.
+    pub strict: bool,
     /// Leave out inputs whose output exists (a finished output is whole:
     /// each is renamed into place at once).
     pub skip_existing: bool,
@@ -81,7 +83,7 @@ pub fn run(inputs: &[PathBuf], opts: &Options<'_>, params: &Params) -> Result<u8
                     name: "inputs",
                     reason: reason.clone(),
                 })?;
-            batch::mesh_file(input, output, format, params)
+            batch::mesh_file(input, output, format, params, opts.strict)
         },
         |done, outcome| {
             // Said and recorded as they happen: a batch stopped halfway has

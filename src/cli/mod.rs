@@ -50,6 +50,10 @@ enum Cmd {
         /// Exit with 0 even when the mesh is not sound (see the exit codes).
         #[arg(long)]
         allow_unsound: bool,
+        /// Refuse a file whose parent links form cycles (by default each
+        /// cycle is broken where it first appears in the file, and said).
+        #[arg(long)]
+        strict: bool,
         #[command(flatten)]
         params: Params,
     },
@@ -79,6 +83,10 @@ enum Cmd {
         /// Count unsound meshes in the summary but exit with 0 for them.
         #[arg(long)]
         allow_unsound: bool,
+        /// Refuse a file whose parent links form cycles (by default each
+        /// cycle is broken where it first appears in the file, and said).
+        #[arg(long)]
+        strict: bool,
         /// Leave out inputs whose output exists (resumes a batch: outputs
         /// are renamed into place whole, so an existing one is complete).
         #[arg(long)]
@@ -102,6 +110,10 @@ enum Cmd {
         /// membrane mesh should match; slower).
         #[arg(long)]
         union: bool,
+        /// Refuse a file whose parent links form cycles (by default each
+        /// cycle is broken where it first appears in the file, and said).
+        #[arg(long)]
+        strict: bool,
     },
     /// Check any OBJ, PLY or STL mesh for defects.
     Check {
@@ -195,12 +207,16 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
             check,
             quiet,
             allow_unsound,
+            strict,
             params,
         } => {
             params.validate()?;
             io::Format::from_path(&output)?;
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
+            if strict {
+                morphology.refuse_cycles()?;
+            }
             warn_radii(&input, &morphology);
             announce_size(&input, &morphology, &params);
             let mesh: Mesh = crate::mesh_morphology(&morphology, &params)?;
@@ -256,6 +272,7 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
             jobs,
             quiet,
             allow_unsound,
+            strict,
             skip_existing,
             summary,
             params,
@@ -267,13 +284,22 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
                 jobs,
                 quiet,
                 allow_unsound,
+                strict,
                 skip_existing,
                 summary,
             },
             &params,
         ),
-        Cmd::Info { input, json, union } => {
+        Cmd::Info {
+            input,
+            json,
+            union,
+            strict,
+        } => {
             let m = Morphology::from_swc(&input)?;
+            if strict {
+                m.refuse_cycles()?;
+            }
             warn_radii(&input, &m);
             let s = if union {
                 Summary::with_union(&m)

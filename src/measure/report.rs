@@ -123,7 +123,7 @@ impl MeshReport {
                 "\"junctions_paper\":{},\"junctions_moved\":{},\"junctions_fallback\":{},",
                 "\"junctions_detached\":{},\"soma_trunks\":{},\"overlap_pairs\":{},",
                 "\"overlap_pairs_left\":{},\"fillers\":{},\"samples_merged\":{},",
-                "\"radii_filled\":{},\"soma_radii_replaced\":{},\"radii_raised\":{}}}}}"
+                "\"radii_filled\":{},\"soma_radii_replaced\":{},\"cycles_broken\":{},\"radii_raised\":{}}}}}"
             ),
             self.vertices,
             self.faces,
@@ -174,6 +174,7 @@ impl MeshReport {
             s.samples_merged,
             s.radii_filled,
             s.soma_radii_replaced,
+            s.cycles_broken,
             s.radii_raised,
         )
     }
@@ -250,10 +251,11 @@ impl std::fmt::Display for MeshReport {
         if self.skeleton.is_some() {
             writeln!(
                 f,
-                "input changed         {} samples merged, {} radii filled, {} soma radii replaced, {} radii raised to the floor",
+                "input changed         {} samples merged, {} radii filled, {} soma radii replaced, {} cycles broken, {} radii raised to the floor",
                 self.stats.samples_merged,
                 self.stats.radii_filled,
                 self.stats.soma_radii_replaced,
+                self.stats.cycles_broken,
                 self.stats.radii_raised
             )?;
         }

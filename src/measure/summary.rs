@@ -129,7 +129,7 @@ impl Summary {
                 "\"cable_length\":{},\"radius_min\":{},\"radius_max\":{},",
                 "\"bbox\":[[{},{},{}],[{},{},{}]],\"comment_lines\":{},",
                 "\"cleaning\":{{\"duplicates_merged\":{},\"copies_merged\":{},\"zero_radii\":{},\"negative_radii\":{},",
-                "\"radii_from_neighbours\":{},\"radii_from_default\":{},\"soma_radius_fallbacks\":{}}},",
+                "\"radii_from_neighbours\":{},\"radii_from_default\":{},\"soma_radius_fallbacks\":{},\"cycles_broken\":{}}},",
                 "\"measures\":{{\"soma_surface\":{},\"total_surface\":{},\"total_volume\":{},",
                 "\"union_area\":{},\"union_volume\":{}}}}}"
             ),
@@ -159,6 +159,7 @@ impl Summary {
             c.radii_from_neighbours,
             c.radii_from_default,
             c.soma_radius_fallbacks,
+            c.cycles_broken,
             self.measures.soma_surface,
             self.measures.total_surface,
             self.measures.total_volume,
@@ -257,14 +258,16 @@ impl fmt::Display for Summary {
         write!(
             f,
             "cleaning        {} duplicate points and {} copies merged; {} zero and {} negative radii replaced \
-             ({} from neighbours, {} from the default); {} soma radius fallbacks",
+             ({} from neighbours, {} from the default); {} soma radius fallbacks; \
+             {} parent cycles broken",
             c.duplicates_merged,
             c.copies_merged,
             c.zero_radii,
             c.negative_radii,
             c.radii_from_neighbours,
             c.radii_from_default,
-            c.soma_radius_fallbacks
+            c.soma_radius_fallbacks,
+            c.cycles_broken
         )
     }
 }

@@ -33,6 +33,7 @@ pub fn count(morphology: &Morphology, params: &Params, stats: &mut BuildStats) {
     stats.samples_merged = c.duplicates_merged + c.copies_merged;
     stats.radii_filled = c.radii_from_neighbours + c.radii_from_default;
     stats.soma_radii_replaced = c.soma_radius_fallbacks;
+    stats.cycles_broken = c.cycles_broken;
     stats.radii_raised = u32::try_from(raised_radii(morphology, params).0).unwrap_or(u32::MAX);
 }
 
@@ -44,6 +45,11 @@ pub fn repairs(morphology: &Morphology, params: &Params) -> Vec<String> {
         (
             c.duplicates_merged,
             "samples at their parent's position merged into it",
+        ),
+        (
+            c.cycles_broken,
+            "cycles of parent links broken (each cycle's first sample in the file made a root; \
+             --strict refuses them)",
         ),
         (
             c.copies_merged,

@@ -33,6 +33,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &BuildStats) -> PyResult<Bound<'py, PyDic
     d.set_item("samples_merged", s.samples_merged)?;
     d.set_item("radii_filled", s.radii_filled)?;
     d.set_item("soma_radii_replaced", s.soma_radii_replaced)?;
+    d.set_item("cycles_broken", s.cycles_broken)?;
     d.set_item("radii_raised", s.radii_raised)?;
     Ok(d)
 }

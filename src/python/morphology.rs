@@ -210,7 +210,7 @@ macro_rules! with_mesh_functions {
                     let format = crate::io::Format::from_path(&output)?;
                     crate::kernel::parallel::with_threads(Some(threads), || {
                         crate::batch::run_one(&input, &|input| {
-                            crate::batch::mesh_file(input, &output, format, &params)
+                            crate::batch::mesh_file(input, &output, format, &params, false)
                         })
                     })
                 })
@@ -427,6 +427,7 @@ with_params!(with_mesh_functions! {
         let d = PyDict::new(py);
         d.set_item("duplicates_merged", c.duplicates_merged)?;
         d.set_item("copies_merged", c.copies_merged)?;
+        d.set_item("cycles_broken", c.cycles_broken)?;
         d.set_item("zero_radii", c.zero_radii)?;
         d.set_item("negative_radii", c.negative_radii)?;
         d.set_item("radii_from_neighbours", c.radii_from_neighbours)?;

@@ -14,7 +14,6 @@ CASES = [
     (b"1 1 0 0 0 nan -1\n", 1, "finite"),
     (b"1 1 0 0 0 1 -1\n1 3 1 0 0 1 1\n", 2, "duplicate id"),
     (b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 5\n", 2, "does not exist"),
-    (b"1 1 0 0 0 1 -1\n2 3 1 0 0 1 3\n3 3 1 0 0 1 2\n", 2, "cycle"),
     (b"", 1, "no samples"),
     (b"1 1 0 0 0 1 -1\n\x00\x01binary", 2, "binary"),
 ]
@@ -31,6 +30,15 @@ def test_malformed_swc(tmp_path: Path, text: bytes, line: int, reason: str) -> N
         assert e.value.path == str(p)
         assert reason in str(e.value)
         assert str(e.value).startswith(f"{p}:{line}: ")
+
+
+def test_a_parent_cycle_is_broken_and_said(tmp_path: Path) -> None:
+    p = tmp_path / "cycle.swc"
+    p.write_bytes(b"1 1 0 0 0 2 -1\n2 3 3 0 0 1 1\n3 3 6 0 0 1 5\n4 3 9 0 0 1 3\n5 3 9 3 0 1 4\n")
+    assert neuromesh_rs.Morphology.from_swc(p).cleaning["cycles_broken"] == 1
+    with pytest.warns(UserWarning, match="1 cycles of parent links broken"):
+        mesh = neuromesh_rs.mesh_swc(p)
+    assert mesh.stats["cycles_broken"] == 1
 
 
 def test_missing_file_is_file_not_found(tmp_path: Path) -> None:

@@ -14,9 +14,9 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         samples,
         comment_lines,
     } = file;
-    let parent = link_parents(&samples, &path)?;
-    check_acyclic(&samples, &parent, &path)?;
+    let mut parent = link_parents(&samples, &path)?;
     let mut cleaning = Cleaning::default();
+    let first_cycle = break_cycles(&samples, &mut parent, &mut cleaning);
     let kept = merge_duplicates(&samples, &parent, &mut cleaning);
     let Kept {
         ids,
@@ -56,6 +56,7 @@ pub(super) fn build(file: SwcFile) -> Result<Morphology> {
         trees,
         cleaning,
         comment_lines,
+        first_cycle,
     })
 }
 
@@ -379,47 +380,74 @@ pub(super) fn topological_order(parent: &[u32]) -> Vec<u32> {
     order
 }
 
-pub(super) fn check_acyclic(samples: &[RawSample], parent: &[u32], path: &str) -> Result<()> {
+/// Step 1b: parent cycles broken. In each cycle of parent links, the sample
+/// that comes first in the file loses its parent link and becomes a root
+/// (parents normally come before their children, so the link back from it
+/// is the one out of order); the samples hanging below a cycle stay where
+/// they are. Counted into `cleaning`; the first cycle's line and ids are
+/// returned for the error of a caller that refuses cycles
+/// ([`Morphology::refuse_cycles`]). Linear in the samples.
+fn break_cycles(
+    samples: &[RawSample],
+    parent: &mut [u32],
+    cleaning: &mut Cleaning,
+) -> Option<(u32, String)> {
     let order = topological_order(parent);
     if order.len() == samples.len() {
-        return Ok(());
+        return None;
     }
-    let mut reached = vec![false; samples.len()];
+    // 0: not seen, 1: on the walk under way, 2: settled (reached from a root,
+    // or walked before).
+    let mut state = vec![0u8; samples.len()];
     for &i in &order {
-        reached[i as usize] = true;
+        state[i as usize] = 2;
     }
-    // Every unreached sample is in a cycle or hangs below one; walk up from the
-    // first one (in file order) until a sample repeats to find the cycle itself.
-    let start = reached.iter().position(|r| !r).unwrap_or(0);
-    let mut seen = HashMap::new();
+    let mut first = None;
     let mut walk = Vec::new();
-    let mut k = start as u32;
-    while !seen.contains_key(&k) {
-        seen.insert(k, walk.len());
-        walk.push(k);
-        k = parent[k as usize];
+    for start in 0..samples.len() {
+        if state[start] != 0 {
+            continue;
+        }
+        walk.clear();
+        let mut k = start as u32;
+        // Every sample not reached from a root has a parent: a cycle is met.
+        while state[k as usize] == 0 {
+            state[k as usize] = 1;
+            walk.push(k);
+            k = parent[k as usize];
+        }
+        if state[k as usize] == 1 {
+            let from = walk.iter().position(|&w| w == k).unwrap_or(0);
+            let cycle = &walk[from..];
+            let cut = cycle
+                .iter()
+                .copied()
+                .min_by_key(|&i| samples[i as usize].line)
+                .unwrap_or(k);
+            if first.is_none() {
+                let ids: Vec<String> = cycle
+                    .iter()
+                    .take(8)
+                    .map(|&i| samples[i as usize].id.to_string())
+                    .collect();
+                let more = if cycle.len() > 8 { " → …" } else { "" };
+                first = Some((
+                    samples[cut as usize].line,
+                    format!(
+                        "parent links form a cycle: {} → {}{more}",
+                        ids.join(" → "),
+                        samples[cycle[0] as usize].id
+                    ),
+                ));
+            }
+            parent[cut as usize] = NO_PARENT;
+            cleaning.cycles_broken += 1;
+        }
+        for &w in &walk {
+            state[w as usize] = 2;
+        }
     }
-    let cycle = &walk[seen[&k]..];
-    let first = cycle
-        .iter()
-        .copied()
-        .min_by_key(|&i| samples[i as usize].line)
-        .unwrap_or(k);
-    let ids: Vec<String> = cycle
-        .iter()
-        .take(8)
-        .map(|&i| samples[i as usize].id.to_string())
-        .collect();
-    let more = if cycle.len() > 8 { " → …" } else { "" };
-    Err(Error::swc(
-        path,
-        samples[first as usize].line as usize,
-        format!(
-            "parent links form a cycle: {} → {}{more}",
-            ids.join(" → "),
-            samples[cycle[0] as usize].id
-        ),
-    ))
+    first
 }
 
 /// A soma point's radius below this fraction of its widest neighbour's is

