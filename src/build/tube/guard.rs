@@ -96,10 +96,19 @@ impl Part {
     }
 }
 
-/// The parts of the piece under construction, in a uniform grid.
+/// A part whose box spans more grid cells than this is kept out of the grid
+/// and compared with every new part (and a new part as large is compared
+/// with every part): a band or cap much wider than the piece's median radius
+/// (the first band at a soma, a cap on a thick ring) would otherwise cost
+/// millions of cell lookups, most of them empty.
+const MAX_CELLS: f64 = 512.0;
+
+/// The parts of the piece under construction, in a uniform grid (those
+/// wider than [`MAX_CELLS`] cells in a list of their own).
 pub(super) struct Guard {
     cell: f64,
     grid: FastMap<[i64; 3], Vec<u32>>,
+    large: Vec<u32>,
     parts: Vec<Part>,
     seen: Vec<u32>,
     epoch: u32,
@@ -110,29 +119,45 @@ impl Guard {
         Guard {
             cell,
             grid: FastMap::default(),
+            large: Vec::new(),
             parts: Vec::new(),
             seen: Vec::new(),
             epoch: 0,
         }
     }
 
-    fn cells(&self, p: &Part) -> impl Iterator<Item = [i64; 3]> + use<> {
+    /// The part's box in cell coordinates: lowest and highest cell.
+    fn cell_box(&self, p: &Part) -> ([f64; 3], [f64; 3]) {
         let (a, b, r) = p.capsule;
-        let lo = ((a.min(b) - DVec3::splat(r)) / self.cell)
-            .floor()
-            .as_i64vec3();
-        let hi = ((a.max(b) + DVec3::splat(r)) / self.cell)
-            .floor()
-            .as_i64vec3();
-        (lo.x..=hi.x).flat_map(move |x| {
-            (lo.y..=hi.y).flat_map(move |y| (lo.z..=hi.z).map(move |z| [x, y, z]))
+        let lo = ((a.min(b) - DVec3::splat(r)) / self.cell).floor();
+        let hi = ((a.max(b) + DVec3::splat(r)) / self.cell).floor();
+        (lo.to_array(), hi.to_array())
+    }
+
+    /// Whether the part spans more than [`MAX_CELLS`] cells.
+    fn is_large(&self, p: &Part) -> bool {
+        let (lo, hi) = self.cell_box(p);
+        let count = (0..3).map(|k| hi[k] - lo[k] + 1.0).product::<f64>();
+        // NaN (a degenerate part) counts as large: it is compared with all.
+        count.is_nan() || count > MAX_CELLS
+    }
+
+    fn cells(&self, p: &Part) -> impl Iterator<Item = [i64; 3]> + use<> {
+        let (lo, hi) = self.cell_box(p);
+        let (lo, hi) = (lo.map(|v| v as i64), hi.map(|v| v as i64));
+        (lo[0]..=hi[0]).flat_map(move |x| {
+            (lo[1]..=hi[1]).flat_map(move |y| (lo[2]..=hi[2]).map(move |z| [x, y, z]))
         })
     }
 
     pub(super) fn add(&mut self, p: Part) -> u32 {
         let id = self.parts.len() as u32;
-        for c in self.cells(&p) {
-            self.grid.entry(c).or_default().push(id);
+        if self.is_large(&p) {
+            self.large.push(id);
+        } else {
+            for c in self.cells(&p) {
+                self.grid.entry(c).or_default().push(id);
+            }
         }
         self.parts.push(p);
         self.seen.push(0);
@@ -143,13 +168,32 @@ impl Guard {
     pub(super) fn pop(&mut self) {
         if let Some(p) = self.parts.pop() {
             let id = self.parts.len() as u32;
-            for c in self.cells(&p) {
-                if let Some(v) = self.grid.get_mut(&c) {
-                    v.retain(|&x| x != id);
+            if self.large.last() == Some(&id) {
+                self.large.pop();
+            } else {
+                for c in self.cells(&p) {
+                    if let Some(v) = self.grid.get_mut(&c) {
+                        v.retain(|&x| x != id);
+                    }
                 }
             }
             self.seen.pop();
         }
+    }
+
+    /// The parts `new` may meet: all of them when it is large, else those
+    /// in its cells and the large ones (with repeats; the caller skips them).
+    fn candidates(&self, new: &Part) -> Vec<u32> {
+        if self.is_large(new) {
+            return (0..self.parts.len() as u32).collect();
+        }
+        let mut out = self.large.clone();
+        for c in self.cells(new) {
+            if let Some(ids) = self.grid.get(&c) {
+                out.extend_from_slice(ids);
+            }
+        }
+        out
     }
 
     /// Whether `new` meets any part other than those in `skip`.
@@ -159,28 +203,23 @@ impl Guard {
         // The new part's triangles and boxes, once for all the parts it is
         // compared with (computed when the first comparison needs them).
         let mut mine: Option<Band> = None;
-        for c in self.cells(new) {
-            let Some(ids) = self.grid.get(&c) else {
+        for id in self.candidates(new) {
+            if self.seen[id as usize] == epoch || skip.contains(&id) {
                 continue;
-            };
-            for &id in ids {
-                if self.seen[id as usize] == epoch || skip.contains(&id) {
-                    continue;
-                }
-                self.seen[id as usize] = epoch;
-                let old = &self.parts[id as usize];
-                if new.in_front_of(old.end) {
-                    continue;
-                }
-                let (a, b, r) = new.capsule;
-                let (c2, d2, r2) = old.capsule;
-                if predicates::segment_distance(a, b, c2, d2) > r + r2 {
-                    continue;
-                }
-                let mine = mine.get_or_insert_with(|| Band::new(surface, new.tris.clone()));
-                if mine.meets(surface, old.tris.clone()) {
-                    return true;
-                }
+            }
+            self.seen[id as usize] = epoch;
+            let old = &self.parts[id as usize];
+            if new.in_front_of(old.end) {
+                continue;
+            }
+            let (a, b, r) = new.capsule;
+            let (c2, d2, r2) = old.capsule;
+            if predicates::segment_distance(a, b, c2, d2) > r + r2 {
+                continue;
+            }
+            let mine = mine.get_or_insert_with(|| Band::new(surface, new.tris.clone()));
+            if mine.meets(surface, old.tris.clone()) {
+                return true;
             }
         }
         false
