@@ -264,13 +264,51 @@ class Mesh:
             )
         _native._mesh_save(self._vertices, self._faces, target, self._vertex_sample, self._origin)
 
-    def to_trimesh(self) -> Any:
-        """The mesh as a ``trimesh.Trimesh`` (requires ``pip install trimesh``)."""
+    def to_trimesh(self, morphology: Morphology | None = None) -> Any:
+        """The mesh as a ``trimesh.Trimesh`` (requires ``pip install trimesh``).
+
+        Parameters
+        ----------
+        morphology : Morphology, optional
+            The morphology the mesh was made from. With it, each vertex also
+            gets its sample's SWC type.
+
+        Returns
+        -------
+        trimesh.Trimesh
+            Unprocessed (vertices and faces as they are), with the vertex
+            attribute ``sample`` (the morphology sample each vertex was made
+            from) when the mesh knows it, and ``type`` (the sample's SWC type:
+            1 soma, 2 axon, 3 basal, 4 apical dendrite...) when
+            ``morphology`` is given.
+
+        Raises
+        ------
+        ValueError
+            ``morphology`` given for a mesh without sample labels, or one
+            whose samples do not cover the labels.
+        """
         try:
             import trimesh
         except ImportError as e:  # pragma: no cover - depends on the environment
             raise ImportError("to_trimesh() needs trimesh: pip install trimesh") from e
-        return trimesh.Trimesh(vertices=self.vertices, faces=self._faces, process=False)
+        attributes: dict[str, NDArray[Any]] = {}
+        sample = self._vertex_sample
+        if sample is not None:
+            attributes["sample"] = np.array(sample)
+        if morphology is not None:
+            if sample is None:
+                raise ValueError("morphology: this mesh has no sample labels to give types from")
+            types = morphology.types
+            if len(sample) and int(sample.max()) >= len(types):
+                raise ValueError(
+                    f"morphology: the mesh's labels reach sample {int(sample.max())}, "
+                    f"but the morphology has {len(types)} samples"
+                )
+            attributes["type"] = np.asarray(types)[sample]
+        return trimesh.Trimesh(
+            vertices=self.vertices, faces=self._faces, vertex_attributes=attributes, process=False
+        )
 
     def __len__(self) -> int:
         return int(self._faces.shape[0])

@@ -97,6 +97,16 @@ def test_to_trimesh(y_swc: Path) -> None:
     t = m.to_trimesh()
     assert isinstance(t, trimesh.Trimesh)
     assert len(t.faces) == len(m.faces)
+    assert np.array_equal(t.vertex_attributes["sample"], m.vertex_sample)
+    assert "type" not in t.vertex_attributes
+    morphology = neuromesh_rs.Morphology.from_swc(y_swc)
+    typed = m.to_trimesh(morphology)
+    assert np.array_equal(typed.vertex_attributes["type"], morphology.types[m.vertex_sample])
+    assert set(np.unique(typed.vertex_attributes["type"])) <= set(morphology.types)
+    bare = neuromesh_rs.Mesh(m.vertices, m.faces)
+    assert "sample" not in bare.to_trimesh().vertex_attributes
+    with pytest.raises(ValueError, match="no sample labels"):
+        bare.to_trimesh(morphology)
 
 
 def test_a_cell_far_from_the_origin_keeps_its_precision(small_cell: Path, tmp_path: Path) -> None:
