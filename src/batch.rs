@@ -172,7 +172,7 @@ pub fn run_one<T>(input: &Path, job: &(impl Fn(&Path) -> Result<T> + Sync)) -> O
 }
 
 /// The SWC files named by `args`, in order, without repeats: a file is taken
-/// as is; a directory gives its `*.swc` files (any case, not recursive) sorted
+/// as is; a directory gives its `*.swc` and `*.swc.gz` files (any case, not recursive) sorted
 /// by name; a name whose last component holds `*` or `?` is matched against
 /// the files of its (literal) folder, sorted.
 ///
@@ -210,13 +210,13 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>> {
             let found: Vec<PathBuf> = list_dir(arg)?
                 .into_iter()
                 .filter(|p| {
-                    p.extension()
-                        .and_then(|e| e.to_str())
-                        .is_some_and(|e| e.eq_ignore_ascii_case("swc"))
+                    p.file_name()
+                        .and_then(|n| n.to_str())
+                        .is_some_and(|n| swc_stem(n).is_some())
                 })
                 .collect();
             if found.is_empty() {
-                return Err(no_files(arg, "holds no .swc file"));
+                return Err(no_files(arg, "holds no .swc or .swc.gz file"));
             }
             found.into_iter().for_each(|p| push(p, &mut out));
         } else if arg.exists() {
@@ -262,16 +262,22 @@ pub fn output_paths(inputs: &[PathBuf], out_dir: &Path, ext: &str) -> Vec<Result
         .collect()
 }
 
-/// `input`'s file name less a final `.swc` (any case), plus `.ext`.
+/// `name` less a final `.swc` or `.swc.gz` (any case), if it has one and
+/// something is left.
+fn swc_stem(name: &str) -> Option<&str> {
+    [".swc", ".swc.gz"].iter().find_map(|suffix| {
+        let cut = name.len().checked_sub(suffix.len())?;
+        (cut > 0 && name.is_char_boundary(cut) && name[cut..].eq_ignore_ascii_case(suffix))
+            .then(|| &name[..cut])
+    })
+}
+
+/// `input`'s file name less a final `.swc` or `.swc.gz` (any case), plus `.ext`.
 fn output_name(input: &Path, ext: &str) -> std::ffi::OsString {
     let name = input.file_name().unwrap_or(input.as_os_str());
     let stem = name
         .to_str()
-        .and_then(|n| {
-            let cut = n.len().checked_sub(4)?;
-            (n.is_char_boundary(cut) && n[cut..].eq_ignore_ascii_case(".swc")).then(|| &n[..cut])
-        })
-        .filter(|stem| !stem.is_empty())
+        .and_then(swc_stem)
         .map_or_else(|| name.to_os_string(), std::ffi::OsString::from);
     let mut out = stem;
     out.push(".");

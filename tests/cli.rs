@@ -418,6 +418,62 @@ fn batch_keeps_dotted_names_and_meshes_past_a_name_collision() {
 }
 
 #[test]
+fn gzip_files_and_standard_input_are_read() {
+    use std::io::Write;
+    let swc = std::fs::read("tests/data/y_bifurcation.swc").unwrap();
+    let dir = tmp("gz-in");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut z = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(&swc).unwrap();
+    std::fs::write(dir.join("cell.swc.gz"), z.finish().unwrap()).unwrap();
+    // A folder gives its .swc.gz files; the output drops the whole suffix.
+    let out_dir = tmp("gz-out");
+    let out = neuromesh(&[
+        "batch",
+        dir.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let from_gz = std::fs::read(out_dir.join("cell.ply")).unwrap();
+    let plain = tmp("gz-plain.ply");
+    let out = neuromesh(&[
+        "mesh",
+        "tests/data/y_bifurcation.swc",
+        "-o",
+        plain.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert_eq!(from_gz, std::fs::read(&plain).unwrap());
+    // `-` reads standard input; its errors say <stdin>.
+    let run_stdin = |args: &[&str], input: &[u8]| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_neuromesh"))
+            .args(args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        child.stdin.take().unwrap().write_all(input).unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let piped = tmp("gz-stdin.ply");
+    let out = run_stdin(&["mesh", "-", "-o", piped.to_str().unwrap()], &swc);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(
+        std::fs::read(&piped).unwrap(),
+        std::fs::read(&plain).unwrap()
+    );
+    let out = run_stdin(&["info", "-"], b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).starts_with("error: <stdin>:2: "),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
 fn batch_resumes_and_writes_its_summary() {
     let input = tmp("batch-resume-in");
     std::fs::create_dir_all(&input).unwrap();

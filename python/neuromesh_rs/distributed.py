@@ -91,7 +91,9 @@ def _expand_url(url: str) -> list[str]:
     if _GLOB & set(path.rsplit("/", 1)[-1]):
         found = sorted(fs.glob(path))
     elif fs.isdir(path):
-        found = sorted(p for p in fs.ls(path, detail=False) if p.lower().endswith(".swc"))
+        found = sorted(
+            p for p in fs.ls(path, detail=False) if p.lower().endswith((".swc", ".swc.gz"))
+        )
     elif fs.exists(path):
         found = [path]
     else:

@@ -36,7 +36,7 @@ struct Cli {
 enum Cmd {
     /// Mesh one SWC file into OBJ, PLY or STL.
     Mesh {
-        /// Input SWC file.
+        /// Input SWC file (.swc, or gzip-compressed .swc.gz; - reads standard input).
         input: PathBuf,
         /// Output mesh; the extension picks the format.
         #[arg(short, long)]
@@ -64,8 +64,8 @@ enum Cmd {
     /// on a terminal, and ends with a summary; exits with 1 if any file
     /// failed, else 4 if any mesh is not sound.
     Batch {
-        /// SWC files, folders (their *.swc files) or quoted patterns such as
-        /// 'cells/*.swc'.
+        /// SWC files, folders (their *.swc and *.swc.gz files) or quoted
+        /// patterns such as 'cells/*.swc'.
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
         /// Output folder (created if missing); each mesh is named after its SWC file.
@@ -101,7 +101,7 @@ enum Cmd {
     },
     /// Summarise an SWC file: samples, soma, branching.
     Info {
-        /// Input SWC file.
+        /// Input SWC file (.swc, or gzip-compressed .swc.gz; - reads standard input).
         input: PathBuf,
         /// Print JSON instead of text.
         #[arg(long)]

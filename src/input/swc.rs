@@ -56,15 +56,29 @@ pub struct SwcFile {
 }
 
 impl SwcFile {
-    /// Reads and parses an SWC file.
+    /// Reads and parses an SWC file: gzip-compressed (`.swc.gz`, known by
+    /// its first bytes) or not, and `-` for standard input (named
+    /// [`STDIN`] in messages).
     ///
     /// # Errors
     /// [`Error::Io`] if the file cannot be read, [`Error::Swc`] with the line and
-    /// reason if it is malformed.
+    /// reason if it is malformed (line 1 for a broken gzip stream, or one
+    /// that unpacks to more than [`MAX_UNPACKED`] bytes).
     pub fn read(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        Self::parse(&bytes, &path.display().to_string())
+        let (bytes, name) = if path == Path::new("-") {
+            let mut bytes = Vec::new();
+            std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes)
+                .map_err(|e| Error::io(path, e))?;
+            (bytes, STDIN.to_owned())
+        } else {
+            let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+            (bytes, path.display().to_string())
+        };
+        if bytes.starts_with(&GZIP_MAGIC) {
+            return Self::parse(&gunzip(&bytes, &name)?, &name);
+        }
+        Self::parse(&bytes, &name)
     }
 
     /// Parses SWC text held in memory; `name` is used in error messages.
@@ -145,6 +159,38 @@ impl SwcFile {
 
 /// The UTF-8 byte-order mark.
 const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// The name standard input goes by in messages (`-` as a path reads it).
+pub const STDIN: &str = "<stdin>";
+
+/// The first bytes of a gzip stream: a `.swc.gz` file (or one piped in).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// A gzip stream unpacks to at most this many bytes: an SWC file of a
+/// million samples is about 60 MB, and a stream that unpacks to more is
+/// refused before it fills the memory.
+pub const MAX_UNPACKED: u64 = 1 << 30;
+
+/// `bytes` (a gzip stream, possibly of several members) unpacked.
+fn gunzip(bytes: &[u8], name: &str) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let mut out = Vec::with_capacity(bytes.len() * 4);
+    let mut decoder = flate2::read::MultiGzDecoder::new(bytes).take(MAX_UNPACKED + 1);
+    decoder
+        .read_to_end(&mut out)
+        .map_err(|e| Error::swc(name, 1, format!("not a valid gzip stream: {e}")))?;
+    if out.len() as u64 > MAX_UNPACKED {
+        return Err(Error::swc(
+            name,
+            1,
+            format!(
+                "the gzip stream unpacks to more than {} MiB",
+                MAX_UNPACKED >> 20
+            ),
+        ));
+    }
+    Ok(out)
+}
 
 /// Fields quoted in messages are cut to this many characters: a line of
 /// megabytes must not become a message of megabytes.
@@ -527,5 +573,31 @@ mod tests {
         let (line, reason) = err_line("1 1 0 0 0 1 -1\n2 3 1\u{2212}2 0 0 1 1\n");
         assert_eq!(line, 2);
         assert!(reason.contains("x is not a number"), "{reason}");
+    }
+
+    #[test]
+    fn a_gzip_file_reads_as_its_text_and_a_broken_one_is_refused() {
+        use std::io::Write;
+        let text = "# c\n1 1 0 0 0 5 -1\n2 3 10 0 0 1 1\n";
+        let mut z = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        z.write_all(text.as_bytes()).unwrap();
+        let packed = z.finish().unwrap();
+        let dir = std::env::temp_dir().join(format!("neuromesh-gz-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("cell.swc.gz");
+        std::fs::write(&path, &packed).unwrap();
+        let read = SwcFile::read(&path).unwrap();
+        assert_eq!(read.samples, parse(text).unwrap().samples);
+        // Cut short: an error at line 1 naming the file.
+        std::fs::write(&path, &packed[..packed.len() / 2]).unwrap();
+        match SwcFile::read(&path) {
+            Err(Error::Swc(e)) => {
+                assert_eq!(e.line, 1);
+                assert!(e.reason.contains("gzip"), "{}", e.reason);
+                assert_eq!(e.path, path.display().to_string());
+            }
+            other => panic!("{other:?}"),
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
