@@ -1,7 +1,7 @@
 """Type stubs for the Rust extension ``neuromesh_rs._native`` (checked by mypy.stubtest)."""
 
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, Literal, final, overload
 
 import numpy as np
@@ -146,6 +146,7 @@ def mesh_many(
     *,
     threads: int | None = None,
     return_exceptions: Literal[False] = False,
+    progress: bool | Callable[[int, int], object] | None = None,
     # params:begin
     angle_threshold: float = 10.0,
     k1: int = 1,
@@ -167,6 +168,7 @@ def mesh_many(
     *,
     threads: int | None = None,
     return_exceptions: Literal[True],
+    progress: bool | Callable[[int, int], object] | None = None,
     # params:begin
     angle_threshold: float = 10.0,
     k1: int = 1,

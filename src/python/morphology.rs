@@ -242,20 +242,25 @@ macro_rules! with_mesh_functions {
             "threads : int, optional\n    Threads to use (default: one per core).\n",
             "return_exceptions : bool, default False\n",
             "    Give a failed file's exception in its place instead of raising it.\n",
+            "progress : bool or callable, default False\n",
+            "    ``True`` writes ``meshed N of M files`` to ``sys.stderr`` as files finish;\n",
+            "    a callable is called with ``(done, total)`` instead.\n",
             params_doc!($($(#[doc = $doc])* $name: $ty = $default;)*),
             "\nReturns\n-------\nlist of Mesh (or of Mesh and exceptions with ``return_exceptions``)\n",
         )]
         #[pyfunction(name = "mesh_many")]
-        #[pyo3(signature = (paths, *, threads=None, return_exceptions=false, $($name = $default),*))]
+        #[pyo3(signature = (paths, *, threads=None, return_exceptions=false, progress=None, $($name = $default),*))]
         pub(super) fn mesh_many_py<'py>(
             py: Python<'py>,
             paths: &Bound<'py, PyAny>,
             threads: Option<usize>,
             return_exceptions: bool,
+            progress: Option<Bound<'py, PyAny>>,
             $($name: $ty),*
         ) -> PyResult<Bound<'py, PyList>> {
             let params = Params { $($name),* };
-            mesh_many(py, path_list(paths)?, threads, return_exceptions, params)
+            let progress = Progress::from_argument(progress)?;
+            mesh_many(py, path_list(paths)?, threads, return_exceptions, progress, params)
         }
     };
 }
@@ -507,28 +512,93 @@ fn path_list(paths: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
 }
 
 /// `mesh_many` once its arguments are extracted.
+/// How `mesh_many` reports files as they finish.
+enum Progress {
+    Silent,
+    /// `meshed N of M files` on `sys.stderr`.
+    Stderr,
+    /// A Python callable, called with `(done, total)`.
+    Call(Py<PyAny>),
+}
+
+impl Progress {
+    fn from_argument(arg: Option<Bound<'_, PyAny>>) -> PyResult<Progress> {
+        let Some(arg) = arg else {
+            return Ok(Progress::Silent);
+        };
+        if let Ok(flag) = arg.cast::<pyo3::types::PyBool>() {
+            return Ok(if flag.is_true() {
+                Progress::Stderr
+            } else {
+                Progress::Silent
+            });
+        }
+        if arg.is_callable() {
+            return Ok(Progress::Call(arg.unbind()));
+        }
+        Err(pyo3::exceptions::PyTypeError::new_err(
+            "progress must be True, False or a callable taking (done, total)",
+        ))
+    }
+
+    /// Says that `done` of `total` files are finished (from a worker thread,
+    /// attaching to the interpreter for the moment it takes).
+    fn report(&self, done: usize, total: usize) {
+        if matches!(self, Progress::Silent) {
+            return;
+        }
+        Python::attach(|py| {
+            let said = match self {
+                Progress::Silent => Ok(()),
+                Progress::Stderr => py.import("sys").and_then(|sys| {
+                    let end = if done == total { "\n" } else { "" };
+                    let line = format!("\rmeshed {done} of {total} files{end}");
+                    sys.getattr("stderr")?
+                        .call_method1("write", (line,))
+                        .map(|_| ())
+                }),
+                Progress::Call(f) => f.call1(py, (done, total)).map(|_| ()),
+            };
+            // A failing progress callback must not lose the meshes: it is
+            // reported as unraisable, as Python does for callbacks.
+            if let Err(e) = said {
+                e.write_unraisable(py, None);
+            }
+        });
+    }
+}
+
 fn mesh_many(
     py: Python<'_>,
     paths: Vec<PathBuf>,
     threads: Option<usize>,
     return_exceptions: bool,
+    progress: Progress,
     params: Params,
 ) -> PyResult<Bound<'_, PyList>> {
     params.validate().map_err(to_py)?;
+    let total = paths.len();
     let outcomes = py
         .detach(|| {
             crate::batch::run(
                 &paths,
                 threads,
-                |path| crate::mesh_swc(path, &params),
-                |_, _| {},
+                |path| {
+                    let m = Morphology::from_swc(path)?;
+                    let warnings = geometry_warnings(&m, &params);
+                    crate::mesh_morphology(&m, &params).map(|mesh| (mesh, warnings))
+                },
+                |done, _| progress.report(done, total),
             )
         })
         .map_err(to_py)?;
     let list = PyList::empty(py);
     for outcome in outcomes {
         match outcome.result {
-            Ok(mesh) => list.append(python_mesh(py, mesh)?)?,
+            Ok((mesh, warnings)) => {
+                warn_lines(py, &outcome.input.display().to_string(), &warnings)?;
+                list.append(python_mesh(py, mesh)?)?;
+            }
             Err(e) if return_exceptions => list.append(to_py(e).into_value(py))?,
             Err(e) => return Err(to_py(e)),
         }

@@ -77,3 +77,20 @@ def test_mesh_many_goes_past_a_bad_file(tmp_path: Path, y_swc: Path) -> None:
         neuromesh_rs.mesh_many([y_swc], threads=0)
     with pytest.raises(ValueError, match="min_vertices"):
         neuromesh_rs.mesh_many([y_swc], min_vertices=3)
+
+
+def test_mesh_many_reports_progress_and_warns_repairs(
+    tmp_path: Path, y_swc: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    seen: list[tuple[int, int]] = []
+    neuromesh_rs.mesh_many([y_swc, y_swc, y_swc], threads=2, progress=lambda d, t: seen.append((d, t)))
+    assert sorted(seen) == [(1, 3), (2, 3), (3, 3)]
+    neuromesh_rs.mesh_many([y_swc, y_swc], progress=True)
+    assert capsys.readouterr().err.endswith("meshed 2 of 2 files\n")
+    with pytest.raises(TypeError, match="progress"):
+        neuromesh_rs.mesh_many([y_swc], progress="yes")
+    # What meshing changes in a file is warned, as mesh_swc warns it.
+    zero = tmp_path / "zero.swc"
+    zero.write_text("1 1 0 0 0 2 -1\n2 3 5 0 0 0 1\n3 3 10 0 0 1 2\n")
+    with pytest.warns(UserWarning, match="took the nearest valid radius"):
+        neuromesh_rs.mesh_many([zero])
