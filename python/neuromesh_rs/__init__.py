@@ -15,6 +15,8 @@ vertex was made from, so per-sample values (voltage, calcium, type) map onto the
 surface.
 """
 
+from ._convert import from_morphio as from_morphio
+from ._convert import from_navis as from_navis
 from ._mesh import Mesh as Mesh
 from ._mesh import MeshReport as MeshReport
 from ._native import DEFAULTS as DEFAULTS
@@ -38,6 +40,8 @@ __all__ = [
     "Morphology",
     "SwcError",
     "__version__",
+    "from_morphio",
+    "from_navis",
     "load_mesh",
     "mesh_many",
     "mesh_swc",
