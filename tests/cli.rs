@@ -464,6 +464,39 @@ fn gzip_files_and_standard_input_are_read() {
         std::fs::read(&piped).unwrap(),
         std::fs::read(&plain).unwrap()
     );
+    // `-o -` writes the mesh to standard output (what is said goes to stderr).
+    let out = run_stdin(
+        &["mesh", "-", "-o", "-", "--format", "ply", "--check"],
+        &swc,
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(out.stdout, std::fs::read(&plain).unwrap());
+    assert!(
+        text(&out.stderr).contains("valid "),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = neuromesh(&["mesh", "tests/data/y_bifurcation.swc", "-o", "-"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("needs --format"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = neuromesh(&[
+        "mesh",
+        "tests/data/y_bifurcation.swc",
+        "-o",
+        plain.to_str().unwrap(),
+        "--format",
+        "obj",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("disagrees"),
+        "{}",
+        text(&out.stderr)
+    );
     let out = run_stdin(&["info", "-"], b"1 1 0 0 0 1 -1\n2 3 1 0 x 1 1\n");
     assert_eq!(out.status.code(), Some(1));
     assert!(

@@ -38,10 +38,14 @@ enum Cmd {
     Mesh {
         /// Input SWC file (.swc, or gzip-compressed .swc.gz; - reads standard input).
         input: PathBuf,
-        /// Output mesh; the extension picks the format.
+        /// Output mesh; the extension picks the format (- writes standard
+        /// output, in the format --format names).
         #[arg(short, long)]
         output: PathBuf,
-        /// Also check the mesh and print the report.
+        /// Format for -o - (standard output).
+        #[arg(long, value_parser = ["obj", "ply", "stl"])]
+        format: Option<String>,
+        /// Also check the mesh and print the report (on stderr with -o -).
         #[arg(long)]
         check: bool,
         /// Print nothing on success.
@@ -173,6 +177,30 @@ fn warn_radii(input: &std::path::Path, m: &Morphology) {
     }
 }
 
+/// The format of `output`: `--format` for `-` (standard output), else its
+/// extension (which `--format`, if given, must agree with).
+fn output_format(output: &std::path::Path, format: Option<&str>) -> Result<io::Format, Error> {
+    let named = format.and_then(io::Format::from_extension);
+    if output == std::path::Path::new("-") {
+        return named.ok_or_else(|| Error::InvalidParam {
+            name: "format",
+            reason: "writing to standard output (-o -) needs --format obj, ply or stl".to_owned(),
+        });
+    }
+    let by_extension = io::Format::from_path(output)?;
+    match named {
+        Some(f) if f != by_extension => Err(Error::InvalidParam {
+            name: "format",
+            reason: format!(
+                "--format {} disagrees with the extension of {}",
+                f.extension(),
+                output.display()
+            ),
+        }),
+        _ => Ok(by_extension),
+    }
+}
+
 /// Triangles (before thinning) above which `mesh` says, before it starts,
 /// how large the mesh will be.
 const ANNOUNCED: f64 = 10e6;
@@ -204,6 +232,7 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
         Cmd::Mesh {
             input,
             output,
+            format,
             check,
             quiet,
             allow_unsound,
@@ -211,7 +240,8 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
             params,
         } => {
             params.validate()?;
-            io::Format::from_path(&output)?;
+            let to_stdout = output == std::path::Path::new("-");
+            let format = output_format(&output, format.as_deref())?;
             let start = Instant::now();
             let morphology = Morphology::from_swc(&input)?;
             if strict {
@@ -222,24 +252,39 @@ fn run(cmd: Cmd) -> Result<u8, Error> {
             let mesh: Mesh = crate::mesh_morphology(&morphology, &params)?;
             warn_repairs(&input, &morphology, &params);
             let meshed = start.elapsed();
-            io::write(&output, &mesh)?;
-            if let Some(why) = io::precision_warning(&mesh, io::Format::from_path(&output)?) {
+            if to_stdout {
+                let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+                io::write_to(&mut w, &mesh, format)
+                    .and_then(|()| std::io::Write::flush(&mut w))
+                    .map_err(|e| Error::io(&output, e))?;
+            } else {
+                io::write_as(&output, &mesh, format)?;
+            }
+            if let Some(why) = io::precision_warning(&mesh, format) {
                 eprintln!("warning: {}: {why}", output.display());
             }
+            // With the mesh on standard output, what is said goes to stderr.
+            let say = |text: String| {
+                if to_stdout {
+                    eprintln!("{text}");
+                } else {
+                    println!("{text}");
+                }
+            };
             if !quiet {
-                println!(
+                say(format!(
                     "wrote {}: {} vertices, {} triangles ({:.1} ms meshing, {:.1} ms total)",
                     output.display(),
                     mesh.vertices.len(),
                     mesh.faces.len(),
                     meshed.as_secs_f64() * 1e3,
                     start.elapsed().as_secs_f64() * 1e3
-                );
+                ));
             }
             let sound = if check {
                 let scaled = morphology.scaled(params.scale)?;
                 let report = mesh.check_with(&scaled);
-                println!("{report}");
+                say(report.to_string());
                 report.is_sound()
             } else {
                 true

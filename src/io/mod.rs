@@ -169,11 +169,7 @@ pub fn write_as(path: &Path, mesh: &Mesh, format: Format) -> Result<()> {
     let _unfinished = Unfinished::register(&tmp);
     let result = (|| -> std::io::Result<()> {
         let mut w = BufWriter::with_capacity(1 << 20, File::create(&tmp)?);
-        match format {
-            Format::Obj => write_obj(&mut w, mesh)?,
-            Format::Ply => write_ply(&mut w, mesh)?,
-            Format::Stl => write_stl(&mut w, mesh)?,
-        }
+        write_to(&mut w, mesh, format)?;
         w.flush()?;
         drop(w);
         std::fs::rename(&tmp, path)
@@ -183,6 +179,19 @@ pub fn write_as(path: &Path, mesh: &Mesh, format: Format) -> Result<()> {
         return Err(Error::io(path, e));
     }
     Ok(())
+}
+
+/// Writes `mesh` as `format` to `w` (standard output, a buffer): what
+/// [`write_as`] writes to its file.
+///
+/// # Errors
+/// What writing to `w` gives.
+pub fn write_to(w: &mut impl Write, mesh: &Mesh, format: Format) -> std::io::Result<()> {
+    match format {
+        Format::Obj => write_obj(w, mesh),
+        Format::Ply => write_ply(w, mesh),
+        Format::Stl => write_stl(w, mesh),
+    }
 }
 
 /// Reads a mesh from an OBJ, PLY or STL file (by extension).
