@@ -310,6 +310,61 @@ class Mesh:
             vertices=self.vertices, faces=self._faces, vertex_attributes=attributes, process=False
         )
 
+    def split_by_type(self, morphology: Morphology) -> dict[int, Mesh]:
+        """The mesh cut into one piece per SWC type (soma, axon, basal, apical...).
+
+        Parameters
+        ----------
+        morphology : Morphology
+            The morphology the mesh was made from (its types label the
+            vertices through ``vertex_sample``).
+
+        Returns
+        -------
+        dict of int to Mesh
+            For each type present, the faces most of whose vertices have it,
+            with only the vertices they use. Together the pieces are the whole
+            mesh, face for face. A piece is closed only when its type makes up
+            a whole component: where two types meet (a dendrite leaving the
+            soma) each piece is **open** along the seam, so areas add up but
+            volumes of pieces are not meaningful; ``check()`` reports the
+            boundary edges.
+
+        Raises
+        ------
+        ValueError
+            The mesh has no sample labels, or its labels reach past the
+            morphology's samples.
+        """
+        sample = self._vertex_sample
+        if sample is None:
+            raise ValueError("morphology: this mesh has no sample labels to give types from")
+        types = np.asarray(morphology.types)
+        if len(sample) and int(sample.max()) >= len(types):
+            raise ValueError(
+                f"morphology: the mesh's labels reach sample {int(sample.max())}, "
+                f"but the morphology has {len(types)} samples"
+            )
+        corner = types[sample][self._faces]
+        # The majority type of each face's three corners (the first when all differ).
+        face_type = np.where(
+            (corner[:, 1] == corner[:, 2]) & (corner[:, 0] != corner[:, 1]), corner[:, 1], corner[:, 0]
+        )
+        pieces: dict[int, Mesh] = {}
+        for t in np.unique(face_type):
+            faces = self._faces[face_type == t]
+            used, local = np.unique(faces, return_inverse=True)
+            piece = Mesh.__new__(Mesh)
+            piece._set(
+                np.ascontiguousarray(self._vertices[used]),
+                np.ascontiguousarray(local.reshape(-1, 3), dtype=np.uint32),
+                np.ascontiguousarray(sample[used]),
+                {},
+                self._origin,
+            )
+            pieces[int(t)] = piece
+        return pieces
+
     def __len__(self) -> int:
         return int(self._faces.shape[0])
 

@@ -136,3 +136,24 @@ def test_a_cell_far_from_the_origin_keeps_its_precision(small_cell: Path, tmp_pa
     wrapped = neuromesh_rs.Mesh(b.vertices, b.faces)
     assert wrapped.origin != (0.0, 0.0, 0.0) and wrapped.check().valid
     assert pickle.loads(pickle.dumps(b)).origin == b.origin
+
+
+def test_split_by_type_covers_the_mesh_with_open_pieces(small_cell: Path, y_swc: Path) -> None:
+    morphology = neuromesh_rs.Morphology.from_swc(small_cell)
+    mesh = morphology.mesh()
+    pieces = mesh.split_by_type(morphology)
+    assert set(pieces) == set(np.unique(morphology.types))
+    assert sum(len(p.faces) for p in pieces.values()) == len(mesh.faces)
+    assert sum(p.area for p in pieces.values()) == pytest.approx(mesh.area, rel=1e-6)
+    for t, piece in pieces.items():
+        labels = morphology.types[piece.vertex_sample]
+        assert np.mean(labels == t) > 0.5
+    # Soma and dendrites meet: both pieces are open along the seam.
+    assert all(not p.check().closed for p in pieces.values())
+    # One type only: one piece, the whole closed mesh.
+    y = neuromesh_rs.Morphology.from_swc(y_swc)
+    whole = y.mesh()
+    (only,) = whole.split_by_type(y).values()
+    assert len(only.faces) == len(whole.faces) and only.check().closed
+    with pytest.raises(ValueError, match="no sample labels"):
+        neuromesh_rs.Mesh(whole.vertices, whole.faces).split_by_type(y)
