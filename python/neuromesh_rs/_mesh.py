@@ -297,18 +297,23 @@ class Mesh:
         if sample is not None:
             attributes["sample"] = np.array(sample)
         if morphology is not None:
-            if sample is None:
-                raise ValueError("morphology: this mesh has no sample labels to give types from")
-            types = morphology.types
-            if len(sample) and int(sample.max()) >= len(types):
-                raise ValueError(
-                    f"morphology: the mesh's labels reach sample {int(sample.max())}, "
-                    f"but the morphology has {len(types)} samples"
-                )
-            attributes["type"] = np.asarray(types)[sample]
+            attributes["type"] = self._vertex_types(morphology)
         return trimesh.Trimesh(
             vertices=self.vertices, faces=self._faces, vertex_attributes=attributes, process=False
         )
+
+    def _vertex_types(self, morphology: Morphology) -> NDArray[np.int32]:
+        """Each vertex's SWC type, through ``vertex_sample`` into ``morphology``."""
+        sample = self._vertex_sample
+        if sample is None:
+            raise ValueError("morphology: this mesh has no sample labels to give types from")
+        types = np.asarray(morphology.types)
+        if len(sample) and int(sample.max()) >= len(types):
+            raise ValueError(
+                f"morphology: the mesh's labels reach sample {int(sample.max())}, "
+                f"but the morphology has {len(types)} samples"
+            )
+        return types[sample]
 
     def split_by_type(self, morphology: Morphology) -> dict[int, Mesh]:
         """The mesh cut into one piece per SWC type (soma, axon, basal, apical...).
@@ -336,16 +341,9 @@ class Mesh:
             The mesh has no sample labels, or its labels reach past the
             morphology's samples.
         """
+        corner = self._vertex_types(morphology)[self._faces]
         sample = self._vertex_sample
-        if sample is None:
-            raise ValueError("morphology: this mesh has no sample labels to give types from")
-        types = np.asarray(morphology.types)
-        if len(sample) and int(sample.max()) >= len(types):
-            raise ValueError(
-                f"morphology: the mesh's labels reach sample {int(sample.max())}, "
-                f"but the morphology has {len(types)} samples"
-            )
-        corner = types[sample][self._faces]
+        assert sample is not None  # _vertex_types refused a mesh without labels
         # The majority type of each face's three corners (the first when all differ).
         face_type = np.where(
             (corner[:, 1] == corner[:, 2]) & (corner[:, 0] != corner[:, 1]), corner[:, 1], corner[:, 0]

@@ -70,6 +70,15 @@ fn join(lines: &[Option<Line>], raw: &[String]) -> String {
     out
 }
 
+/// One more than the largest id of the data lines `data`.
+fn next_id(lines: &[Option<Line>], data: &[usize]) -> i64 {
+    data.iter()
+        .filter_map(|&i| lines[i].as_ref()?.fields[0].parse::<i64>().ok())
+        .max()
+        .unwrap_or(0)
+        + 1
+}
+
 fn pick<T: Copy>(rng: &mut Rng, items: &[T]) -> T {
     items[(rng.next_u64() % items.len() as u64) as usize]
 }
@@ -233,12 +242,7 @@ pub fn mutate(text: &str, kind: usize, rng: &mut Rng) -> Option<String> {
         }
         13 => {
             // The whole cell again, ids shifted, as a second tree on the first.
-            let shift = data
-                .iter()
-                .filter_map(|&i| lines[i].as_ref()?.fields[0].parse::<i64>().ok())
-                .max()
-                .unwrap_or(0)
-                + 1;
+            let shift = next_id(&lines, &data);
             let mut text = join(&lines, &raw);
             for &i in &data {
                 let l = lines[i].as_ref().expect("a data line");
@@ -289,12 +293,7 @@ fn star(lines: Vec<Option<Line>>, raw: Vec<String>, data: &[usize], rng: &mut Rn
         hub.num(5),
     );
     let r = r.abs().max(0.1);
-    let mut next = data
-        .iter()
-        .filter_map(|&i| lines[i].as_ref()?.fields[0].parse::<i64>().ok())
-        .max()
-        .unwrap_or(0)
-        + 1;
+    let mut next = next_id(&lines, data);
     let mut text = join(&lines, &raw);
     let k = pick(rng, &[10usize, 30, 200]);
     for _ in 0..k {

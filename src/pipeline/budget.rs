@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::input::morphology::{Morphology, NO_PARENT};
 use crate::params::Params;
 use crate::skeleton::contour::vertex_count;
-use crate::skeleton::geometry::radius_floor;
+use crate::skeleton::geometry::{longest_side, radius_floor};
 use crate::skeleton::spline::MAX_INSERTED_PER_SEGMENT;
 
 /// What [`estimate`] finds.
@@ -132,8 +132,9 @@ pub const LARGEST_VALUE: f64 = 1e15;
 /// A sample lies this many times farther from the cell's centre than 99 %
 /// of the samples (and than a hundred median radii) only by an error in
 /// its coordinates: on the 48 corpus files the farthest sample is at most
-/// 1.41 times as far. Two samples at 1e8 in a cell of 2e5 nm raise every
-/// radius to a floor ten times too thick and ran for minutes.
+/// 1.41 times as far. Meshed, two samples at 1e8 in a cell of 2e5 nm would
+/// raise every radius to a floor ten times too thick, into tubes that
+/// swallow each other.
 pub const OUTLIER_FACTOR: f64 = 100.0;
 
 /// Most children of one branch point off the soma. Where children leave one
@@ -244,8 +245,7 @@ pub const THIN_RADIUS: f64 = 1e-6;
 /// # Errors
 /// [`Error::Swc`] at the line of the first such radius.
 pub fn check_radius_unit(morphology: &Morphology, params: &Params) -> Result<()> {
-    let (lo, hi) = morphology.bounds();
-    let side = (0..3).map(|a| hi[a] - lo[a]).fold(0.0, f64::max) * params.scale;
+    let side = longest_side(morphology, params.scale);
     let thin = THIN_RADIUS * side;
     if params.min_radius >= thin {
         return Ok(());

@@ -55,7 +55,7 @@ pub fn floor_at(side: f64, min_radius: f64) -> f64 {
 }
 
 /// The longest side of the box of `morphology`'s spheres scaled by `scale`.
-fn longest_side(morphology: &Morphology, scale: f64) -> f64 {
+pub fn longest_side(morphology: &Morphology, scale: f64) -> f64 {
     let (lo, hi) = morphology.bounds();
     (0..3).map(|a| (hi[a] - lo[a]) * scale).fold(0.0, f64::max)
 }

@@ -109,6 +109,8 @@ pub(super) struct Guard {
     cell: f64,
     grid: FastMap<[i64; 3], Vec<u32>>,
     large: Vec<u32>,
+    /// The candidates of the last [`Guard::collides`], kept for its buffer.
+    scratch: Vec<u32>,
     parts: Vec<Part>,
     seen: Vec<u32>,
     epoch: u32,
@@ -120,6 +122,7 @@ impl Guard {
             cell,
             grid: FastMap::default(),
             large: Vec::new(),
+            scratch: Vec::new(),
             parts: Vec::new(),
             seen: Vec::new(),
             epoch: 0,
@@ -181,19 +184,21 @@ impl Guard {
         }
     }
 
-    /// The parts `new` may meet: all of them when it is large, else those
-    /// in its cells and the large ones (with repeats; the caller skips them).
-    fn candidates(&self, new: &Part) -> Vec<u32> {
+    /// The parts `new` may meet, into `out`: all of them when it is large,
+    /// else those in its cells and the large ones (with repeats; the caller
+    /// skips them).
+    fn candidates(&self, new: &Part, out: &mut Vec<u32>) {
+        out.clear();
         if self.is_large(new) {
-            return (0..self.parts.len() as u32).collect();
+            out.extend(0..self.parts.len() as u32);
+            return;
         }
-        let mut out = self.large.clone();
+        out.extend_from_slice(&self.large);
         for c in self.cells(new) {
             if let Some(ids) = self.grid.get(&c) {
                 out.extend_from_slice(ids);
             }
         }
-        out
     }
 
     /// Whether `new` meets any part other than those in `skip`.
@@ -203,7 +208,11 @@ impl Guard {
         // The new part's triangles and boxes, once for all the parts it is
         // compared with (computed when the first comparison needs them).
         let mut mine: Option<Band> = None;
-        for id in self.candidates(new) {
+        // One buffer for every call: this runs once per band.
+        let mut candidates = std::mem::take(&mut self.scratch);
+        self.candidates(new, &mut candidates);
+        let mut meets = false;
+        for &id in &candidates {
             if self.seen[id as usize] == epoch || skip.contains(&id) {
                 continue;
             }
@@ -219,10 +228,12 @@ impl Guard {
             }
             let mine = mine.get_or_insert_with(|| Band::new(surface, new.tris.clone()));
             if mine.meets(surface, old.tris.clone()) {
-                return true;
+                meets = true;
+                break;
             }
         }
-        false
+        self.scratch = candidates;
+        meets
     }
 }
 
